@@ -1,0 +1,6 @@
+#pragma once
+/// \file
+/// \brief Umbrella header of vdtnav/core.
+
+#include "vdtnav/core/error.hpp"
+#include "vdtnav/core/traits.hpp"

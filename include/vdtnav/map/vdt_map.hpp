@@ -1,0 +1,152 @@
+#pragma once
+/// \file
+/// \brief `VdtMap<Dim>`: the continuous vector distance transform map (thesis ch. 2).
+///
+/// Holds the exact feature transform (nearest occupied cell of every cell) and an interpolating
+/// cubic B-spline of each DT_v component, so that DT_v(p), dDT_v/dp and the Hessians of every
+/// component are available analytically at any p (Algorithm 1's "Require" list). Memory:
+/// 4 B/cell for the features + 4*Dim B/cell for the coefficients (12 B/cell in 2D, 16 B/voxel in
+/// 3D, plus one ghost layer).
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+
+#include "vdtnav/map/cubic_bspline.hpp"
+#include "vdtnav/map/grid.hpp"
+#include "vdtnav/map/vector_distance_transform.hpp"
+
+namespace vdtnav {
+
+/// \brief DT_v and its Jacobian at a query point.
+template <int Dim>
+struct VdtSample {
+  using Vector = typename SpaceTraits<Dim>::Vector;
+  using Matrix = typename SpaceTraits<Dim>::Matrix;
+  Vector value = Vector::Zero();     ///< DT_v(p) = p - c(p), world axes, metres
+  Matrix jacobian = Matrix::Zero();  ///< dDT_v/dp; row c is the gradient of component c
+  bool inside = false;  ///< false: p is outside the map and the values belong to the clamped point
+};
+
+/// \brief DT_v, its Jacobian, and the Hessian of every component.
+template <int Dim>
+struct VdtSampleWithHessian : VdtSample<Dim> {
+  std::array<typename SpaceTraits<Dim>::Matrix, Dim>
+      hessian{};  ///< d^2 DT_c / dp^2 per component c
+};
+
+/// \brief Continuous VDT map of dimension Dim (aliases VdtMap2, VdtMap3).
+template <int Dim>
+class VdtMap {
+ public:
+  using Vector = typename SpaceTraits<Dim>::Vector;
+  using Matrix = typename SpaceTraits<Dim>::Matrix;
+  using Index = typename SpaceTraits<Dim>::Index;
+  using Field = CubicBSplineField<Dim, Dim>;
+
+  VdtMap() = default;
+  /// \brief Assembles a map from its parts (map files); checks that they agree.
+  VdtMap(Grid<std::int32_t, Dim> nearest, Field field);
+
+  /// \brief Builds the exact VDT of an occupancy grid and its interpolant.
+  /// \throws ConfigError when no cell is occupied or an axis has fewer than 2 cells.
+  [[nodiscard]] static VdtMap build(const OccupancyGrid<Dim>& occupied);
+
+  /// \brief Interpolated DT_v and Jacobian at world point p.
+  [[nodiscard]] VdtSample<Dim> evaluate(const Vector& p) const {
+    VdtSample<Dim> s;
+    typename Field::Values v;
+    typename Field::Jacobian j;
+    Vector u = frame().continuous_index(p);
+    s.inside = field_.clamp(u);
+    field_.evaluate(u, &v, &j, nullptr);
+    to_world(v, j, s);
+    return s;
+  }
+
+  /// \brief Interpolated DT_v, Jacobian and Hessians at world point p.
+  [[nodiscard]] VdtSampleWithHessian<Dim> evaluate_with_hessian(const Vector& p) const;
+
+  /// \brief Interpolated DT_v only.
+  [[nodiscard]] Vector value(const Vector& p, bool* inside = nullptr) const {
+    typename Field::Values v;
+    Vector u = frame().continuous_index(p);
+    const bool in = field_.clamp(u);
+    if (inside != nullptr) *inside = in;
+    field_.evaluate(u, &v, nullptr, nullptr);
+    return frame().axis_aligned() ? Vector(v) : Vector(frame().rotation() * v);
+  }
+
+  /// \brief The exact alternative to interpolation (SPEC, Numerical notes): the residual from the
+  /// stored nearest occupied cell of the cell containing p, DT_v(p) = p - c(cell(p)). Its Jacobian
+  /// is the identity: no averaging across a cut locus, at the price of a piecewise model.
+  [[nodiscard]] VdtSample<Dim> nearest_point_query(const Vector& p) const;
+
+  /// \return the centre of the occupied cell nearest to the cell containing p (clamped into the
+  /// map).
+  [[nodiscard]] Vector nearest_occupied_point(const Vector& p) const;
+
+  [[nodiscard]] const GridFrame<Dim>& frame() const noexcept { return nearest_.frame(); }
+  [[nodiscard]] const Index& size() const noexcept { return nearest_.size(); }
+  [[nodiscard]] double resolution() const noexcept { return nearest_.resolution(); }
+  [[nodiscard]] const Grid<std::int32_t, Dim>& nearest_cells() const noexcept { return nearest_; }
+  [[nodiscard]] const Field& field() const noexcept { return field_; }
+  /// \return bytes held by the map (features + coefficients).
+  [[nodiscard]] std::size_t memory_bytes() const noexcept {
+    return nearest_.num_cells() * sizeof(std::int32_t) +
+           field_.coefficients().size() * sizeof(float);
+  }
+
+ private:
+  template <typename Sample>
+  void to_world(const typename Field::Values& v, const typename Field::Jacobian& j,
+                Sample& s) const {
+    const double inv_res = 1.0 / resolution();
+    if (frame().axis_aligned()) {
+      s.value = v;
+      s.jacobian = j * inv_res;  // du/dp = I / resolution
+    } else {
+      const Matrix& r = frame().rotation();
+      s.value = r * v;
+      s.jacobian = r * j * r.transpose() * inv_res;  // du/dp = R^T / resolution
+    }
+  }
+
+  Grid<std::int32_t, Dim> nearest_;
+  Field field_;
+};
+
+using VdtMap2 = VdtMap<2>;
+using VdtMap3 = VdtMap<3>;
+
+/// \brief A continuous scalar distance transform (UDT or SDT) for the baselines, same spline.
+template <int Dim>
+class DistanceFieldMap {
+ public:
+  using Vector = typename SpaceTraits<Dim>::Vector;
+  using Matrix = typename SpaceTraits<Dim>::Matrix;
+  using Field = CubicBSplineField<Dim, 1>;
+
+  /// \brief Value, gradient and Hessian at a query point.
+  struct Sample {
+    double value = 0.0;
+    Vector gradient = Vector::Zero();
+    Matrix hessian = Matrix::Zero();
+    bool inside = false;
+  };
+
+  DistanceFieldMap() = default;
+  /// \throws ConfigError when a sample is not finite or an axis has fewer than 2 cells.
+  explicit DistanceFieldMap(const Grid<float, Dim>& samples);
+
+  /// \brief Value and gradient (and Hessian when with_hessian) at world point p.
+  [[nodiscard]] Sample evaluate(const Vector& p, bool with_hessian = false) const;
+
+  [[nodiscard]] const GridFrame<Dim>& frame() const noexcept { return frame_; }
+
+ private:
+  GridFrame<Dim> frame_;
+  Field field_;
+};
+
+}  // namespace vdtnav

@@ -1,0 +1,171 @@
+// The exact feature transform against a brute-force nearest-occupied-cell oracle, in 2D and 3D.
+#include "vdtnav/map/vector_distance_transform.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <random>
+
+namespace vdtnav {
+namespace {
+
+template <int Dim>
+struct DimTag {
+  static constexpr int kDim = Dim;
+};
+using Dims = ::testing::Types<DimTag<2>, DimTag<3>>;
+
+template <typename Tag>
+class VectorDistanceTransformTest : public ::testing::Test {
+ protected:
+  static constexpr int kDim = Tag::kDim;
+  using Index = typename SpaceTraits<kDim>::Index;
+
+  static OccupancyGrid<kDim> make(const Index& size) {
+    return OccupancyGrid<kDim>(size, GridFrame<kDim>(0.1, SpaceTraits<kDim>::Vector::Zero()), 0);
+  }
+
+  /// Brute force: squared distance (cells) from every cell to its nearest occupied cell.
+  static std::vector<std::int64_t> brute_force_d2(const OccupancyGrid<kDim>& occ) {
+    std::vector<std::int64_t> best(occ.num_cells(), std::numeric_limits<std::int64_t>::max());
+    for (std::size_t c = 0; c < occ.num_cells(); ++c) {
+      const Index i = occ.index_of(static_cast<std::ptrdiff_t>(c));
+      for (std::size_t o = 0; o < occ.num_cells(); ++o) {
+        if (!occ[o]) continue;
+        const std::int64_t d2 = (i - occ.index_of(static_cast<std::ptrdiff_t>(o))).squaredNorm();
+        best[c] = std::min(best[c], d2);
+      }
+    }
+    return best;
+  }
+
+  /// Checks the feature transform against the oracle: squared distances equal, features occupied,
+  /// and features equal to the oracle's wherever the nearest occupied cell is unique.
+  static void expect_exact(const OccupancyGrid<kDim>& occ) {
+    const auto nearest = nearest_occupied_cells(occ);
+    const auto d2 = brute_force_d2(occ);
+    for (std::size_t c = 0; c < occ.num_cells(); ++c) {
+      const Index i = occ.index_of(static_cast<std::ptrdiff_t>(c));
+      ASSERT_NE(nearest[c], kNoFeature) << "cell " << i.transpose();
+      ASSERT_TRUE(occ[static_cast<std::size_t>(nearest[c])]) << "feature of a cell is not occupied";
+      const std::int64_t got = (i - occ.index_of(nearest[c])).squaredNorm();
+      ASSERT_EQ(got, d2[c]) << "cell " << i.transpose();
+      int ties = 0;
+      std::size_t unique = 0;
+      for (std::size_t o = 0; o < occ.num_cells(); ++o) {
+        if (occ[o] && (i - occ.index_of(static_cast<std::ptrdiff_t>(o))).squaredNorm() == d2[c]) {
+          ++ties;
+          unique = o;
+        }
+      }
+      if (ties == 1) {
+        ASSERT_EQ(static_cast<std::size_t>(nearest[c]), unique);
+      }
+    }
+  }
+};
+TYPED_TEST_SUITE(VectorDistanceTransformTest, Dims);
+
+TYPED_TEST(VectorDistanceTransformTest, EqualsBruteForceOnRandomGrids) {
+  constexpr int kDim = TestFixture::kDim;
+  std::mt19937 rng(20261122 + kDim);
+  const int max_side = kDim == 2 ? 40 : 12;
+  std::uniform_int_distribution<int> side(1, max_side);
+  std::uniform_real_distribution<double> uni(0.0, 1.0);
+  int tested = 0;
+  for (int trial = 0; trial < 120; ++trial) {
+    typename TestFixture::Index size;
+    for (int d = 0; d < kDim; ++d) size[d] = side(rng);
+    auto occ = TestFixture::make(size);
+    const double p = std::pow(10.0, -2.5 + 2.3 * uni(rng));  // 0.3 % .. 60 % occupied
+    bool any = false;
+    for (auto& v : occ.values()) any |= (v = uni(rng) < p ? 1 : 0) != 0;
+    if (!any) occ[occ.num_cells() / 2] = 1;
+    TestFixture::expect_exact(occ);
+    ++tested;
+  }
+  EXPECT_GE(tested, 100);
+}
+
+TYPED_TEST(VectorDistanceTransformTest, EmptyMapHasNoFeatures) {
+  constexpr int kDim = TestFixture::kDim;
+  const auto occ = TestFixture::make(TestFixture::Index::Constant(7));
+  const auto nearest = nearest_occupied_cells(occ);
+  for (auto f : nearest.values()) ASSERT_EQ(f, kNoFeature);
+  const auto udt = unsigned_distance_transform(nearest);
+  for (auto v : udt.values()) ASSERT_TRUE(std::isinf(v) && v > 0);
+  const auto vdt = vector_distance_transform<kDim>(nearest);
+  for (const auto& v : vdt.values()) ASSERT_TRUE(v.hasNaN());
+}
+
+TYPED_TEST(VectorDistanceTransformTest, AllOccupiedPointsToItself) {
+  auto occ = TestFixture::make(TestFixture::Index::Constant(5));
+  for (auto& v : occ.values()) v = 1;
+  const auto nearest = nearest_occupied_cells(occ);
+  for (std::size_t c = 0; c < occ.num_cells(); ++c)
+    ASSERT_EQ(nearest[c], static_cast<std::int32_t>(c));
+  const auto sdt = signed_distance_transform(occ);
+  for (auto v : sdt.values()) ASSERT_TRUE(std::isinf(v) && v < 0);
+}
+
+TYPED_TEST(VectorDistanceTransformTest, SingleCellAndOneCellGrid) {
+  auto occ = TestFixture::make(TestFixture::Index::Constant(9));
+  const typename TestFixture::Index corner = TestFixture::Index::Constant(8);  // a border corner
+  occ(corner) = 1;
+  const auto nearest = nearest_occupied_cells(occ);
+  const auto target = static_cast<std::int32_t>(occ.linear_index(corner));
+  for (auto f : nearest.values()) ASSERT_EQ(f, target);
+  auto one = TestFixture::make(TestFixture::Index::Ones());
+  one[0] = 1;
+  EXPECT_EQ(nearest_occupied_cells(one)[0], 0);
+}
+
+TYPED_TEST(VectorDistanceTransformTest, TiesKeepTheExactDistance) {
+  // Two occupied cells mirror-symmetric about the centre: the centre column is a cut locus.
+  auto occ = TestFixture::make(TestFixture::Index::Constant(9));
+  typename TestFixture::Index a = TestFixture::Index::Constant(4), b = a;
+  a[0] = 1;
+  b[0] = 7;
+  occ(a) = 1;
+  occ(b) = 1;
+  TestFixture::expect_exact(occ);
+}
+
+TYPED_TEST(VectorDistanceTransformTest, UdtAndSdtFollowTheDocumentedRule) {
+  constexpr int kDim = TestFixture::kDim;
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> uni(0.0, 1.0);
+  auto occ = TestFixture::make(TestFixture::Index::Constant(kDim == 2 ? 25 : 9));
+  for (auto& v : occ.values()) v = uni(rng) < 0.15 ? 1 : 0;
+  OccupancyGrid<kDim> free_space = occ;
+  for (auto& v : free_space.values()) v = v ? 0 : 1;
+  const auto d_occ = TestFixture::brute_force_d2(occ);
+  const auto d_free = TestFixture::brute_force_d2(free_space);
+  const auto udt = unsigned_distance_transform(nearest_occupied_cells(occ));
+  const auto sdt = signed_distance_transform(occ);
+  const double r = occ.resolution();
+  for (std::size_t c = 0; c < occ.num_cells(); ++c) {
+    ASSERT_NEAR(udt[c], std::sqrt(static_cast<double>(d_occ[c])) * r, 1e-5);
+    const double expected = occ[c] ? -(std::sqrt(static_cast<double>(d_free[c])) * r - r / 2)
+                                   : std::sqrt(static_cast<double>(d_occ[c])) * r - r / 2;
+    ASSERT_NEAR(sdt[c], expected, 1e-5);
+    ASSERT_EQ(sdt[c] < 0, occ[c] != 0);
+  }
+}
+
+TYPED_TEST(VectorDistanceTransformTest, VdtIsCellMinusFeatureInMetres) {
+  constexpr int kDim = TestFixture::kDim;
+  auto occ = TestFixture::make(TestFixture::Index::Constant(6));
+  typename TestFixture::Index w = TestFixture::Index::Zero();
+  occ(w) = 1;
+  const auto vdt = vector_distance_transform<kDim>(nearest_occupied_cells(occ));
+  for (std::size_t c = 0; c < occ.num_cells(); ++c) {
+    const auto i = occ.index_of(static_cast<std::ptrdiff_t>(c));
+    ASSERT_TRUE(vdt[c].isApprox((i.template cast<float>() * 0.1F), 1e-6F) ||
+                i == TestFixture::Index::Zero());
+  }
+}
+
+}  // namespace
+}  // namespace vdtnav
