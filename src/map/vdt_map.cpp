@@ -45,7 +45,9 @@ void fill_ghosts(float* data, std::ptrdiff_t outer, int n, std::ptrdiff_t inner)
 
 template <int Dim, int Channels>
 CubicBSplineField<Dim, Channels>::CubicBSplineField(const Index& size, std::vector<float> samples)
-    : size_(size), padded_(size + Index::Constant(2)) {
+    : size_(size),
+      padded_(size + Index::Constant(2)),
+      hull_max_((size.array() - 1).template cast<double>()) {
   std::ptrdiff_t n = 1;
   for (int d = 0; d < Dim; ++d) {
     VDTNAV_CHECK(size[d] >= 2, "a cubic B-spline field needs at least 2 nodes along every axis");
@@ -97,6 +99,7 @@ CubicBSplineField<Dim, Channels> CubicBSplineField<Dim, Channels>::from_coeffici
                "cubic B-spline field: coefficient count does not match the lattice size");
   f.size_ = size;
   f.padded_ = size + Index::Constant(2);
+  f.hull_max_ = (size.array() - 1).template cast<double>();
   f.coef_ = std::move(coefficients);
   return f;
 }
@@ -142,7 +145,7 @@ VdtSampleWithHessian<Dim> VdtMap<Dim>::evaluate_with_hessian(const Vector& p) co
   s.inside = field_.clamp(u);
   field_.evaluate(u, &v, &j, &h);
   to_world(v, j, s);
-  const double inv_res2 = 1.0 / (resolution() * resolution());
+  const double inv_res2 = frame().inv_resolution() * frame().inv_resolution();
   if (frame().axis_aligned()) {
     for (int c = 0; c < Dim; ++c) s.hessian[c] = h[c] * inv_res2;
   } else {
@@ -192,7 +195,7 @@ typename DistanceFieldMap<Dim>::Sample DistanceFieldMap<Dim>::evaluate(const Vec
   typename Field::Jacobian j;
   typename Field::Hessians h;
   field_.evaluate(u, &v, &j, with_hessian ? &h : nullptr);
-  const double inv_res = 1.0 / frame_.resolution();
+  const double inv_res = frame_.inv_resolution();
   s.value = v[0];
   const Vector g_grid = j.transpose() * inv_res;
   s.gradient = frame_.axis_aligned() ? g_grid : Vector(frame_.rotation() * g_grid);

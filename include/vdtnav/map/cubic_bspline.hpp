@@ -31,10 +31,11 @@ struct CubicBSplineWeights {
 
   explicit CubicBSplineWeights(float t) {
     const float s = 1.0F - t, t2 = t * t, t3 = t2 * t;
-    w[0] = s * s * s / 6.0F;
-    w[1] = (3.0F * t3 - 6.0F * t2 + 4.0F) / 6.0F;
-    w[2] = (-3.0F * t3 + 3.0F * t2 + 3.0F * t + 1.0F) / 6.0F;
-    w[3] = t3 / 6.0F;
+    constexpr float kSixth = 1.0F / 6.0F;
+    w[0] = s * s * s * kSixth;
+    w[1] = (3.0F * t3 - 6.0F * t2 + 4.0F) * kSixth;
+    w[2] = (-3.0F * t3 + 3.0F * t2 + 3.0F * t + 1.0F) * kSixth;
+    w[3] = t3 * kSixth;
     dw[0] = -0.5F * s * s;
     dw[1] = 1.5F * t2 - 2.0F * t;
     dw[2] = -1.5F * t2 + t + 0.5F;
@@ -78,22 +79,29 @@ class CubicBSplineField {
     constexpr double kHullTolerance = 1e-9;
     bool inside = true;
     for (int d = 0; d < Dim; ++d) {
-      const double hi = static_cast<double>(size_[d] - 1);
-      if (!(u[d] >= 0.0)) {  // also catches NaN
-        inside = inside && u[d] >= -kHullTolerance;
-        u[d] = 0.0;
-      } else if (u[d] > hi) {
-        inside = inside && u[d] <= hi + kHullTolerance;
-        u[d] = hi;
-      }
+      const double x = u[d], hi = hull_max_[d];
+      inside &= (x >= -kHullTolerance) & (x <= hi + kHullTolerance);  // false for NaN
+      const double lo_clamped = x >= 0.0 ? x : 0.0;                   // NaN -> 0
+      u[d] = lo_clamped <= hi ? lo_clamped : hi;
     }
     return inside;
   }
 
   /// \brief Evaluates at u (must lie in the node hull; see clamp()). Any output may be null.
-  void evaluate(const Vector& u, Values* value, Jacobian* gradient, Hessians* hessian) const;
+  void evaluate(const Vector& u, Values* value, Jacobian* gradient, Hessians* hessian) const {
+    if (hessian != nullptr) {
+      evaluate_impl<true, true>(u, value, gradient, hessian);
+    } else if (gradient != nullptr) {
+      evaluate_impl<true, false>(u, value, gradient, hessian);
+    } else {
+      evaluate_impl<false, false>(u, value, gradient, hessian);
+    }
+  }
 
  private:
+  template <bool kGradient, bool kHessian>
+  void evaluate_impl(const Vector& u, Values* value, Jacobian* gradient, Hessians* hessian) const;
+
   std::ptrdiff_t padded_offset(const Index& node) const noexcept {  // node of the padded lattice
     std::ptrdiff_t l = node[Dim - 1];
     for (int d = Dim - 2; d >= 0; --d) l = l * padded_[d] + node[d];
@@ -102,99 +110,95 @@ class CubicBSplineField {
 
   Index size_;
   Index padded_;
+  Vector hull_max_ = Vector::Zero();  // n - 1 per axis, as double
   std::vector<float> coef_;
 };
 
 // ---------------------------------------------------------------- inline evaluation (hot path)
 
 template <int Dim, int Channels>
-inline void CubicBSplineField<Dim, Channels>::evaluate(const Vector& u, Values* value,
-                                                       Jacobian* gradient,
-                                                       Hessians* hessian) const {
+template <bool kGradient, bool kHessian>
+inline void CubicBSplineField<Dim, Channels>::evaluate_impl(const Vector& u, Values* value,
+                                                            Jacobian* gradient,
+                                                            Hessians* hessian) const {
+  // A row of the 4^Dim support is 4 nodes x Channels floats, contiguous: accumulate whole rows
+  // weighted by their y (and z) weights as packed arrays, and reduce across x once at the end.
+  // This is the tensor-product sum  sum_ijk wx_i wy_j wz_k c_ijk  and its derivatives.
+  using Row = Eigen::Array<float, 4 * Channels, 1>;
   Index base;
   float t[Dim];
   for (int d = 0; d < Dim; ++d) {
-    int i = static_cast<int>(u[d]);          // u >= 0
+    int i = static_cast<int>(u[d]);          // u >= 0 (clamped)
     if (i > size_[d] - 2) i = size_[d] - 2;  // u == n-1 uses the last span with t = 1
     base[d] = i;                             // node i-1 is padded node i
     t[d] = static_cast<float>(u[d] - i);
   }
   const float* c0 = coef_.data() + padded_offset(base);
-  const CubicBSplineWeights wx(t[0]), wy(t[1]), wz(t[Dim - 1]);
+  const CubicBSplineWeights wx(t[0]), wy(t[1]), wz(Dim == 3 ? t[Dim - 1] : 0.0F);
   const std::ptrdiff_t row_stride = static_cast<std::ptrdiff_t>(padded_[0]) * Channels;
-
-  // Accumulators: value, first and second derivatives per channel (index coordinates).
-  float v[Channels] = {}, g[Channels][Dim] = {}, h[Channels][Dim][Dim] = {};
-  const bool want_g = gradient != nullptr, want_h = hessian != nullptr;
-
-  const int planes = Dim == 3 ? 4 : 1;
-  for (int k = 0; k < planes; ++k) {
-    float pv[Channels] = {}, pgx[Channels] = {}, pgy[Channels] = {};
-    float phxx[Channels] = {}, phxy[Channels] = {}, phyy[Channels] = {};
-    const float* plane = c0;
-    if constexpr (Dim == 3) plane += k * row_stride * padded_[1];
+  const std::ptrdiff_t plane_stride = Dim == 3 ? row_stride * padded_[1] : 0;
+  // Row sums: r = sum over rows of (y,z weight) * row, and its y/z derivative variants.
+  Row r = Row::Zero(), ry = Row::Zero(), rz = Row::Zero();
+  Row ryy = Row::Zero(), rzz = Row::Zero(), ryz = Row::Zero();
+  constexpr int kPlanes = Dim == 3 ? 4 : 1;
+  for (int k = 0; k < kPlanes; ++k) {
+    const float z0 = Dim == 3 ? wz.w[k] : 1.0F;
+    const float z1 = Dim == 3 ? wz.dw[k] : 0.0F;
+    const float z2 = Dim == 3 ? wz.ddw[k] : 0.0F;
+    const float* plane = c0 + k * plane_stride;
     for (int j = 0; j < 4; ++j) {
-      const float* row = plane + j * row_stride;
-      for (int c = 0; c < Channels; ++c) {
-        const float r0 = row[c], r1 = row[Channels + c], r2 = row[2 * Channels + c],
-                    r3 = row[3 * Channels + c];
-        const float s = wx.w[0] * r0 + wx.w[1] * r1 + wx.w[2] * r2 + wx.w[3] * r3;
-        pv[c] += wy.w[j] * s;
-        if (want_g) {
-          const float sd = wx.dw[0] * r0 + wx.dw[1] * r1 + wx.dw[2] * r2 + wx.dw[3] * r3;
-          pgx[c] += wy.w[j] * sd;
-          pgy[c] += wy.dw[j] * s;
-          if (want_h) {
-            const float sdd = wx.ddw[0] * r0 + wx.ddw[1] * r1 + wx.ddw[2] * r2 + wx.ddw[3] * r3;
-            phxx[c] += wy.w[j] * sdd;
-            phxy[c] += wy.dw[j] * sd;
-            phyy[c] += wy.ddw[j] * s;
-          }
-        }
-      }
-    }
-    if constexpr (Dim == 2) {
-      for (int c = 0; c < Channels; ++c) {
-        v[c] = pv[c];
-        g[c][0] = pgx[c];
-        g[c][1] = pgy[c];
-        h[c][0][0] = phxx[c];
-        h[c][0][1] = phxy[c];
-        h[c][1][1] = phyy[c];
-      }
-    } else {
-      for (int c = 0; c < Channels; ++c) {
-        v[c] += wz.w[k] * pv[c];
-        if (want_g) {
-          g[c][0] += wz.w[k] * pgx[c];
-          g[c][1] += wz.w[k] * pgy[c];
-          g[c][2] += wz.dw[k] * pv[c];
-          if (want_h) {
-            h[c][0][0] += wz.w[k] * phxx[c];
-            h[c][0][1] += wz.w[k] * phxy[c];
-            h[c][1][1] += wz.w[k] * phyy[c];
-            h[c][0][2] += wz.dw[k] * pgx[c];
-            h[c][1][2] += wz.dw[k] * pgy[c];
-            h[c][2][2] += wz.ddw[k] * pv[c];
+      const Eigen::Map<const Row> row(plane + j * row_stride);
+      r += (wy.w[j] * z0) * row;
+      if constexpr (kGradient) {
+        ry += (wy.dw[j] * z0) * row;
+        if constexpr (Dim == 3) rz += (wy.w[j] * z1) * row;
+        if constexpr (kHessian) {
+          ryy += (wy.ddw[j] * z0) * row;
+          if constexpr (Dim == 3) {
+            rzz += (wy.w[j] * z2) * row;
+            ryz += (wy.dw[j] * z1) * row;
           }
         }
       }
     }
   }
-  if (value != nullptr) {
-    for (int c = 0; c < Channels; ++c) (*value)[c] = v[c];
+  // x weights expanded to the interleaved row layout (lane i * Channels + c has weight of node i):
+  // a Channels x 4 matrix with every row equal to the weights, read column-major.
+  const auto expand = [](const float* w) -> Row {
+    const Eigen::Map<const Eigen::Matrix<float, 1, 4>> w4(w);
+    const Eigen::Matrix<float, Channels, 4> m = w4.replicate<Channels, 1>();
+    return Eigen::Map<const Row>(m.data());
+  };
+  const Row ex = expand(wx.w);
+  const Row edx = kGradient ? expand(wx.dw) : Row::Zero().eval();
+  const Row eddx = kHessian ? expand(wx.ddw) : Row::Zero().eval();
+  // Sum the lanes of each channel: lanes form a Channels x 4 column-major matrix.
+  const auto reduce = [](const Row& a) -> Eigen::Matrix<float, Channels, 1> {
+    return Eigen::Map<const Eigen::Matrix<float, Channels, 4>>(a.data()).rowwise().sum();
+  };
+  if (value != nullptr) *value = reduce(r * ex).template cast<double>();
+  if constexpr (kGradient) {
+    gradient->col(0) = reduce(r * edx).template cast<double>();
+    gradient->col(1) = reduce(ry * ex).template cast<double>();
+    if constexpr (Dim == 3) gradient->col(2) = reduce(rz * ex).template cast<double>();
   }
-  if (want_g) {
-    for (int c = 0; c < Channels; ++c)
-      for (int d = 0; d < Dim; ++d) (*gradient)(c, d) = g[c][d];
-  }
-  if (want_h) {
+  if constexpr (kHessian) {
+    const auto xx = reduce(r * eddx), xy = reduce(ry * edx), yy = reduce(ryy * ex);
+    Eigen::Matrix<float, Channels, 1> xz, yz, zz;
+    if constexpr (Dim == 3) {
+      xz = reduce(rz * edx);
+      yz = reduce(ryz * ex);
+      zz = reduce(rzz * ex);
+    }
     for (int c = 0; c < Channels; ++c) {
-      for (int a = 0; a < Dim; ++a) {
-        for (int b = a; b < Dim; ++b) {
-          (*hessian)[c](a, b) = h[c][a][b];
-          (*hessian)[c](b, a) = h[c][a][b];
-        }
+      auto& h = (*hessian)[c];
+      h(0, 0) = xx[c];
+      h(0, 1) = h(1, 0) = xy[c];
+      h(1, 1) = yy[c];
+      if constexpr (Dim == 3) {
+        h(0, 2) = h(2, 0) = xz[c];
+        h(1, 2) = h(2, 1) = yz[c];
+        h(2, 2) = zz[c];
       }
     }
   }

@@ -29,7 +29,7 @@ class GridFrame {
 
   GridFrame() = default;
   GridFrame(double resolution, const Vector& origin, double yaw = 0.0)
-      : resolution_(resolution), origin_(origin), yaw_(yaw) {
+      : resolution_(resolution), inv_resolution_(1.0 / resolution), origin_(origin), yaw_(yaw) {
     VDTNAV_CHECK(std::isfinite(resolution) && resolution > 0.0,
                  "grid resolution must be finite and > 0");
     VDTNAV_CHECK(origin.allFinite() && std::isfinite(yaw), "grid origin and yaw must be finite");
@@ -44,6 +44,8 @@ class GridFrame {
   }
 
   [[nodiscard]] double resolution() const noexcept { return resolution_; }
+  /// \return 1 / resolution (queries multiply: a division costs more than the rest of a lookup).
+  [[nodiscard]] double inv_resolution() const noexcept { return inv_resolution_; }
   [[nodiscard]] const Vector& origin() const noexcept { return origin_; }
   [[nodiscard]] double yaw() const noexcept { return yaw_; }
   /// \return R, the rotation from grid axes to world axes.
@@ -54,7 +56,7 @@ class GridFrame {
   [[nodiscard]] Vector continuous_index(const Vector& p) const {
     const Vector local =
         axis_aligned() ? Vector(p - origin_) : Vector(rotation_.transpose() * (p - origin_));
-    return local / resolution_ - Vector::Constant(0.5);
+    return local * inv_resolution_ - Vector::Constant(0.5);
   }
   /// \return the world position of continuous index u (inverse of continuous_index).
   [[nodiscard]] Vector world_point(const Vector& u) const {
@@ -75,6 +77,7 @@ class GridFrame {
 
  private:
   double resolution_ = 1.0;
+  double inv_resolution_ = 1.0;
   Vector origin_ = Vector::Zero();
   double yaw_ = 0.0;
   Matrix rotation_ = Matrix::Identity();

@@ -101,7 +101,7 @@ class VdtMap {
   template <typename Sample>
   void to_world(const typename Field::Values& v, const typename Field::Jacobian& j,
                 Sample& s) const {
-    const double inv_res = 1.0 / resolution();
+    const double inv_res = frame().inv_resolution();
     if (frame().axis_aligned()) {
       s.value = v;
       s.jacobian = j * inv_res;  // du/dp = I / resolution

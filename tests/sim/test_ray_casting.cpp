@@ -1,0 +1,71 @@
+// Ray casting against a brute-force fine ray march and against closed-form wall distances.
+#include "vdtnav/sim/ray_casting.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+namespace vdtnav::sim {
+namespace {
+
+TEST(RayCasting, HitsTheNearFaceOfAWall) {
+  // A wall of cells at column 30 (x in [1.5, 1.55) with 0.05 m cells).
+  OccupancyGrid<2> g(Eigen::Vector2i(60, 40), GridFrame<2>(0.05, Eigen::Vector2d::Zero()), 0);
+  for (int j = 0; j < 40; ++j) g(Eigen::Vector2i(30, j)) = 1;
+  const Eigen::Vector2d o(0.52, 1.0);
+  EXPECT_NEAR(cast_ray<2>(g, o, Eigen::Vector2d(1, 0), 10.0), 1.5 - 0.52, 1e-12);
+  const double a = 0.4;  // slanted: the face x = 1.5 is reached after (1.5 - 0.52) / cos a
+  EXPECT_NEAR(cast_ray<2>(g, o, Eigen::Vector2d(std::cos(a), std::sin(a)), 10.0),
+              0.98 / std::cos(a), 1e-12);
+  EXPECT_TRUE(std::isinf(cast_ray<2>(g, o, Eigen::Vector2d(-1, 0), 10.0)));  // leaves the grid
+  EXPECT_TRUE(std::isinf(cast_ray<2>(g, o, Eigen::Vector2d(1, 0), 0.5)));    // beyond max range
+}
+
+template <int Dim>
+double march(const OccupancyGrid<Dim>& g, const typename SpaceTraits<Dim>::Vector& o,
+             const typename SpaceTraits<Dim>::Vector& dir, double max_range) {
+  const double h = 1e-4;
+  for (double t = 0; t <= max_range; t += h) {
+    const auto c = g.cell_of(o + t * dir);
+    if (!g.contains(c)) return std::numeric_limits<double>::infinity();
+    if (g(c)) return t;
+  }
+  return std::numeric_limits<double>::infinity();
+}
+
+template <int Dim>
+void agrees_with_fine_march(double yaw) {
+  using Vector = typename SpaceTraits<Dim>::Vector;
+  std::mt19937 rng(Dim);
+  std::uniform_real_distribution<double> uni(0.0, 1.0);
+  const int n = Dim == 2 ? 30 : 12;
+  OccupancyGrid<Dim> g(SpaceTraits<Dim>::Index::Constant(n),
+                       GridFrame<Dim>(0.1, Vector::Constant(-0.3), yaw), 0);
+  for (auto& v : g.values()) v = uni(rng) < (Dim == 2 ? 0.04 : 0.1) ? 1 : 0;
+  int hits = 0;
+  for (int k = 0; k < 200; ++k) {
+    Vector u, dir;
+    for (int d = 0; d < Dim; ++d) u[d] = 1.0 + (n - 3.0) * uni(rng);
+    for (int d = 0; d < Dim; ++d) dir[d] = uni(rng) - 0.5;
+    dir.normalize();
+    const Vector o = g.frame().world_point(u);
+    if (g(g.cell_of(o))) continue;
+    const double r = cast_ray<Dim>(g, o, dir, 2.0), m = march<Dim>(g, o, dir, 2.0);
+    ASSERT_EQ(std::isinf(r), std::isinf(m)) << "ray " << k;
+    if (!std::isinf(r)) {
+      ASSERT_NEAR(r, m, 2e-4) << "ray " << k;
+      ++hits;
+    }
+  }
+  EXPECT_GT(hits, 50);
+}
+
+TEST(RayCasting, AgreesWithAFineRayMarch2D) {
+  agrees_with_fine_march<2>(0.0);
+  agrees_with_fine_march<2>(0.3);
+}
+TEST(RayCasting, AgreesWithAFineRayMarch3D) { agrees_with_fine_march<3>(0.0); }
+
+}  // namespace
+}  // namespace vdtnav::sim
