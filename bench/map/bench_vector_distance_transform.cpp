@@ -7,6 +7,7 @@
 
 #include <random>
 
+#include "../bench_counters.hpp"
 #include "vdtnav/map/vdt_map.hpp"
 #include "vdtnav/map/vector_distance_transform.hpp"
 
@@ -23,20 +24,14 @@ OccupancyGrid<Dim> random_occupancy(int side, double p, unsigned seed = 42) {
   return occ;
 }
 
-void set_per_cell(benchmark::State& state, std::size_t cells) {
-  state.counters["ns_per_cell"] = benchmark::Counter(
-      static_cast<double>(cells) * static_cast<double>(state.iterations()) * 1e-9,
-      benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
-  state.counters["cells"] = static_cast<double>(cells);
-}
-
 void BM_VdtBuild2D(benchmark::State& state) {
   const auto occ = random_occupancy<2>(static_cast<int>(state.range(0)), 0.01);
+  const bench::PerItemTimer timer;
   for (auto _ : state) {
     auto nearest = nearest_occupied_cells(occ);
     benchmark::DoNotOptimize(nearest.data());
   }
-  set_per_cell(state, occ.num_cells());
+  timer.set(state, "ns_per_cell", static_cast<double>(occ.num_cells()));
 }
 BENCHMARK(BM_VdtBuild2D)->Arg(4096)->Unit(benchmark::kMillisecond);
 
@@ -49,46 +44,50 @@ void BM_OpenCvDistanceTransform2D(benchmark::State& state) {
   for (int y = 0; y < n; ++y)
     for (int x = 0; x < n; ++x) src.at<std::uint8_t>(y, x) = occ(Eigen::Vector2i(x, y)) ? 0 : 255;
   cv::Mat dist;
+  const bench::PerItemTimer timer;
   for (auto _ : state) {
     cv::distanceTransform(src, dist, cv::DIST_L2, cv::DIST_MASK_PRECISE, CV_32F);
     benchmark::DoNotOptimize(dist.data);
   }
-  set_per_cell(state, occ.num_cells());
+  timer.set(state, "ns_per_cell", static_cast<double>(occ.num_cells()));
 }
 BENCHMARK(BM_OpenCvDistanceTransform2D)->Arg(4096)->Unit(benchmark::kMillisecond);
 
 void BM_VdtBuild3D(benchmark::State& state) {
   const auto occ = random_occupancy<3>(static_cast<int>(state.range(0)), 0.01);
+  const bench::PerItemTimer timer;
   for (auto _ : state) {
     auto nearest = nearest_occupied_cells(occ);
     benchmark::DoNotOptimize(nearest.data());
   }
-  set_per_cell(state, occ.num_cells());
+  timer.set(state, "ns_per_cell", static_cast<double>(occ.num_cells()));
 }
 BENCHMARK(BM_VdtBuild3D)->Arg(256)->Unit(benchmark::kMillisecond);
 
 // The whole continuous map: feature transform + DT_v samples + prefilter of every component.
 void BM_VdtMapBuild2D(benchmark::State& state) {
   const auto occ = random_occupancy<2>(static_cast<int>(state.range(0)), 0.01);
+  const bench::PerItemTimer timer;
   for (auto _ : state) {
     auto map = VdtMap<2>::build(occ);
     benchmark::DoNotOptimize(map.field().coefficients().data());
     state.counters["bytes_per_cell"] =
         static_cast<double>(map.memory_bytes()) / static_cast<double>(occ.num_cells());
   }
-  set_per_cell(state, occ.num_cells());
+  timer.set(state, "ns_per_cell", static_cast<double>(occ.num_cells()));
 }
 BENCHMARK(BM_VdtMapBuild2D)->Arg(4096)->Unit(benchmark::kMillisecond);
 
 void BM_VdtMapBuild3D(benchmark::State& state) {
   const auto occ = random_occupancy<3>(static_cast<int>(state.range(0)), 0.01);
+  const bench::PerItemTimer timer;
   for (auto _ : state) {
     auto map = VdtMap<3>::build(occ);
     benchmark::DoNotOptimize(map.field().coefficients().data());
     state.counters["bytes_per_cell"] =
         static_cast<double>(map.memory_bytes()) / static_cast<double>(occ.num_cells());
   }
-  set_per_cell(state, occ.num_cells());
+  timer.set(state, "ns_per_cell", static_cast<double>(occ.num_cells()));
 }
 BENCHMARK(BM_VdtMapBuild3D)->Arg(256)->Unit(benchmark::kMillisecond);
 

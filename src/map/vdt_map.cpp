@@ -138,13 +138,11 @@ VdtMap<Dim> VdtMap<Dim>::build(const OccupancyGrid<Dim>& occupied) {
 template <int Dim>
 VdtSampleWithHessian<Dim> VdtMap<Dim>::evaluate_with_hessian(const Vector& p) const {
   VdtSampleWithHessian<Dim> s;
-  typename Field::Values v;
-  typename Field::Jacobian j;
   typename Field::Hessians h;
   Vector u = frame().continuous_index(p);
   s.inside = field_.clamp(u);
-  field_.evaluate(u, &v, &j, &h);
-  to_world(v, j, s);
+  field_.evaluate(u, &s.value, &s.jacobian, &h);
+  to_world(s);
   const double inv_res2 = frame().inv_resolution() * frame().inv_resolution();
   if (frame().axis_aligned()) {
     for (int c = 0; c < Dim; ++c) s.hessian[c] = h[c] * inv_res2;

@@ -23,27 +23,19 @@
 namespace vdtnav {
 
 /// \brief Cubic B-spline basis at fractional offset t in [0, 1] for nodes floor(u)-1 .. floor(u)+2,
-/// with first and second derivatives with respect to t.
+/// with first and second derivatives with respect to t. The four weights are cubic polynomials
+/// in t evaluated together (Horner, packed):
+///   w = ((1-t)^3, 3t^3 - 6t^2 + 4, -3t^3 + 3t^2 + 3t + 1, t^3) / 6.
 struct CubicBSplineWeights {
-  float w[4];
-  float dw[4];
-  float ddw[4];
+  Eigen::Array4f w, dw, ddw;
 
   explicit CubicBSplineWeights(float t) {
-    const float s = 1.0F - t, t2 = t * t, t3 = t2 * t;
-    constexpr float kSixth = 1.0F / 6.0F;
-    w[0] = s * s * s * kSixth;
-    w[1] = (3.0F * t3 - 6.0F * t2 + 4.0F) * kSixth;
-    w[2] = (-3.0F * t3 + 3.0F * t2 + 3.0F * t + 1.0F) * kSixth;
-    w[3] = t3 * kSixth;
-    dw[0] = -0.5F * s * s;
-    dw[1] = 1.5F * t2 - 2.0F * t;
-    dw[2] = -1.5F * t2 + t + 0.5F;
-    dw[3] = 0.5F * t2;
-    ddw[0] = s;
-    ddw[1] = 3.0F * t - 2.0F;
-    ddw[2] = 1.0F - 3.0F * t;
-    ddw[3] = t;
+    constexpr float k = 1.0F / 6.0F;
+    const Eigen::Array4f a0(1 * k, 4 * k, 1 * k, 0), a1(-3 * k, 0, 3 * k, 0),
+        a2(3 * k, -6 * k, 3 * k, 0), a3(-1 * k, 3 * k, -3 * k, 1 * k);
+    w = ((a3 * t + a2) * t + a1) * t + a0;
+    dw = (3.0F * a3 * t + 2.0F * a2) * t + a1;
+    ddw = 6.0F * a3 * t + 2.0F * a2;
   }
 };
 
@@ -116,15 +108,68 @@ class CubicBSplineField {
 
 // ---------------------------------------------------------------- inline evaluation (hot path)
 
+namespace detail {
+
+/// A row of the 4^Dim support: 4 nodes x C channels = C packets of 4 floats (lane l of packet q
+/// holds node (4q + l) / C, channel (4q + l) % C).
+template <int C>
+struct RowPackets {
+  Eigen::Array4f p[C];
+
+  static RowPackets zero() {
+    RowPackets r;
+    for (int q = 0; q < C; ++q) r.p[q].setZero();
+    return r;
+  }
+  static RowPackets load(const float* src) {
+    RowPackets r;
+    for (int q = 0; q < C; ++q) r.p[q] = Eigen::Map<const Eigen::Array4f>(src + 4 * q);
+    return r;
+  }
+  /// this += w * row
+  void add(float w, const RowPackets& row) {
+    for (int q = 0; q < C; ++q) p[q] += w * row.p[q];
+  }
+  /// Node weights spread over the lanes: lane l gets w[(4q + l) / C].
+  static RowPackets spread(const Eigen::Array4f& w) {
+    RowPackets r;
+    for (int q = 0; q < C; ++q)
+      for (int l = 0; l < 4; ++l) r.p[q][l] = w[(4 * q + l) / C];
+    return r;
+  }
+  /// sum over nodes of weight(node) * this(node, c), per channel c.
+  Eigen::Matrix<double, C, 1> dot(const RowPackets& weights) const {
+    Eigen::Array4f prod[C];
+    for (int q = 0; q < C; ++q) prod[q] = p[q] * weights.p[q];
+    Eigen::Matrix<double, C, 1> out;
+    if constexpr (C == 1) {
+      out[0] = prod[0].sum();
+    } else if constexpr (C == 2) {
+      const Eigen::Array4f h = prod[0] + prod[1];
+      out[0] = h[0] + h[2];
+      out[1] = h[1] + h[3];
+    } else {
+      for (int c = 0; c < C; ++c) {
+        float sum = 0.0F;
+        for (int i = 0; i < 4; ++i) sum += prod[(i * C + c) / 4][(i * C + c) % 4];
+        out[c] = sum;
+      }
+    }
+    return out;
+  }
+};
+
+}  // namespace detail
+
 template <int Dim, int Channels>
 template <bool kGradient, bool kHessian>
 inline void CubicBSplineField<Dim, Channels>::evaluate_impl(const Vector& u, Values* value,
                                                             Jacobian* gradient,
                                                             Hessians* hessian) const {
-  // A row of the 4^Dim support is 4 nodes x Channels floats, contiguous: accumulate whole rows
-  // weighted by their y (and z) weights as packed arrays, and reduce across x once at the end.
-  // This is the tensor-product sum  sum_ijk wx_i wy_j wz_k c_ijk  and its derivatives.
-  using Row = Eigen::Array<float, 4 * Channels, 1>;
+  // The tensor-product sum  sum_ijk wx_i wy_j wz_k c_ijk  and its derivatives. A row of the
+  // support (4 nodes x Channels floats) is contiguous: rows are accumulated as packets with their
+  // y weights within a plane, planes with their z weights, and x is reduced once at the end.
+  using Row = detail::RowPackets<Channels>;
   Index base;
   float t[Dim];
   for (int d = 0; d < Dim; ++d) {
@@ -134,71 +179,77 @@ inline void CubicBSplineField<Dim, Channels>::evaluate_impl(const Vector& u, Val
     t[d] = static_cast<float>(u[d] - i);
   }
   const float* c0 = coef_.data() + padded_offset(base);
-  const CubicBSplineWeights wx(t[0]), wy(t[1]), wz(Dim == 3 ? t[Dim - 1] : 0.0F);
+  const CubicBSplineWeights wx(t[0]), wy(t[1]);
   const std::ptrdiff_t row_stride = static_cast<std::ptrdiff_t>(padded_[0]) * Channels;
-  const std::ptrdiff_t plane_stride = Dim == 3 ? row_stride * padded_[1] : 0;
-  // Row sums: r = sum over rows of (y,z weight) * row, and its y/z derivative variants.
-  Row r = Row::Zero(), ry = Row::Zero(), rz = Row::Zero();
-  Row ryy = Row::Zero(), rzz = Row::Zero(), ryz = Row::Zero();
-  constexpr int kPlanes = Dim == 3 ? 4 : 1;
-  for (int k = 0; k < kPlanes; ++k) {
-    const float z0 = Dim == 3 ? wz.w[k] : 1.0F;
-    const float z1 = Dim == 3 ? wz.dw[k] : 0.0F;
-    const float z2 = Dim == 3 ? wz.ddw[k] : 0.0F;
-    const float* plane = c0 + k * plane_stride;
-    for (int j = 0; j < 4; ++j) {
-      const Eigen::Map<const Row> row(plane + j * row_stride);
-      r += (wy.w[j] * z0) * row;
-      if constexpr (kGradient) {
-        ry += (wy.dw[j] * z0) * row;
-        if constexpr (Dim == 3) rz += (wy.w[j] * z1) * row;
+
+  // Packet by packet (keeps the accumulators in registers): per plane, p = sum_j wy_j row_j and
+  // its y derivatives; over planes, r = sum_k wz_k p and its z derivatives.
+  Row r, ry, ryy, rz, rzz, ryz;
+  const CubicBSplineWeights wz(Dim == 3 ? t[Dim - 1] : 0.0F);
+  const std::ptrdiff_t plane_stride = row_stride * padded_[1];
+  for (int q = 0; q < Channels; ++q) {
+    Eigen::Array4f a = Eigen::Array4f::Zero(), ay = a, ayy = a, az = a, azz = a, ayz = a;
+#pragma GCC unroll 4
+    for (int k = 0; k < (Dim == 3 ? 4 : 1); ++k) {
+      const float* plane = c0 + k * plane_stride + 4 * q;
+      Eigen::Array4f p = Eigen::Array4f::Zero(), py = p, pyy = p;
+#pragma GCC unroll 4
+      for (int j = 0; j < 4; ++j) {
+        const Eigen::Array4f row = Eigen::Map<const Eigen::Array4f>(plane + j * row_stride);
+        p += wy.w[j] * row;
+        if constexpr (kGradient) py += wy.dw[j] * row;
+        if constexpr (kHessian) pyy += wy.ddw[j] * row;
+      }
+      if constexpr (Dim == 2) {
+        a = p;
+        ay = py;
+        ayy = pyy;
+      } else {
+        a += wz.w[k] * p;
+        if constexpr (kGradient) {
+          ay += wz.w[k] * py;
+          az += wz.dw[k] * p;
+        }
         if constexpr (kHessian) {
-          ryy += (wy.ddw[j] * z0) * row;
-          if constexpr (Dim == 3) {
-            rzz += (wy.w[j] * z2) * row;
-            ryz += (wy.dw[j] * z1) * row;
-          }
+          ayy += wz.w[k] * pyy;
+          azz += wz.ddw[k] * p;
+          ayz += wz.dw[k] * py;
         }
       }
     }
+    r.p[q] = a;
+    ry.p[q] = ay;
+    ryy.p[q] = ayy;
+    rz.p[q] = az;
+    rzz.p[q] = azz;
+    ryz.p[q] = ayz;
   }
-  // x weights expanded to the interleaved row layout (lane i * Channels + c has weight of node i):
-  // a Channels x 4 matrix with every row equal to the weights, read column-major.
-  const auto expand = [](const float* w) -> Row {
-    const Eigen::Map<const Eigen::Matrix<float, 1, 4>> w4(w);
-    const Eigen::Matrix<float, Channels, 4> m = w4.replicate<Channels, 1>();
-    return Eigen::Map<const Row>(m.data());
-  };
-  const Row ex = expand(wx.w);
-  const Row edx = kGradient ? expand(wx.dw) : Row::Zero().eval();
-  const Row eddx = kHessian ? expand(wx.ddw) : Row::Zero().eval();
-  // Sum the lanes of each channel: lanes form a Channels x 4 column-major matrix.
-  const auto reduce = [](const Row& a) -> Eigen::Matrix<float, Channels, 1> {
-    return Eigen::Map<const Eigen::Matrix<float, Channels, 4>>(a.data()).rowwise().sum();
-  };
-  if (value != nullptr) *value = reduce(r * ex).template cast<double>();
+  const Row ex = Row::spread(wx.w);
+  if (value != nullptr) *value = r.dot(ex);
   if constexpr (kGradient) {
-    gradient->col(0) = reduce(r * edx).template cast<double>();
-    gradient->col(1) = reduce(ry * ex).template cast<double>();
-    if constexpr (Dim == 3) gradient->col(2) = reduce(rz * ex).template cast<double>();
-  }
-  if constexpr (kHessian) {
-    const auto xx = reduce(r * eddx), xy = reduce(ry * edx), yy = reduce(ryy * ex);
-    Eigen::Matrix<float, Channels, 1> xz, yz, zz;
-    if constexpr (Dim == 3) {
-      xz = reduce(rz * edx);
-      yz = reduce(ryz * ex);
-      zz = reduce(rzz * ex);
-    }
-    for (int c = 0; c < Channels; ++c) {
-      auto& h = (*hessian)[c];
-      h(0, 0) = xx[c];
-      h(0, 1) = h(1, 0) = xy[c];
-      h(1, 1) = yy[c];
+    const Row edx = Row::spread(wx.dw);
+    gradient->col(0) = r.dot(edx);
+    gradient->col(1) = ry.dot(ex);
+    if constexpr (Dim == 3) gradient->col(2) = rz.dot(ex);
+    if constexpr (kHessian) {
+      const Eigen::Matrix<double, Channels, 1> xx = r.dot(Row::spread(wx.ddw)), xy = ry.dot(edx),
+                                               yy = ryy.dot(ex);
+      Eigen::Matrix<double, Channels, 1> xz, yz, zz;
       if constexpr (Dim == 3) {
-        h(0, 2) = h(2, 0) = xz[c];
-        h(1, 2) = h(2, 1) = yz[c];
-        h(2, 2) = zz[c];
+        xz = rz.dot(edx);
+        yz = ryz.dot(ex);
+        zz = rzz.dot(ex);
+      }
+      for (int c = 0; c < Channels; ++c) {
+        auto& h = (*hessian)[c];
+        h(0, 0) = xx[c];
+        h(0, 1) = h(1, 0) = xy[c];
+        h(1, 1) = yy[c];
+        if constexpr (Dim == 3) {
+          h(0, 2) = h(2, 0) = xz[c];
+          h(1, 2) = h(2, 1) = yz[c];
+          h(2, 2) = zz[c];
+        }
       }
     }
   }

@@ -55,12 +55,10 @@ class VdtMap {
   /// \brief Interpolated DT_v and Jacobian at world point p.
   [[nodiscard]] VdtSample<Dim> evaluate(const Vector& p) const {
     VdtSample<Dim> s;
-    typename Field::Values v;
-    typename Field::Jacobian j;
     Vector u = frame().continuous_index(p);
     s.inside = field_.clamp(u);
-    field_.evaluate(u, &v, &j, nullptr);
-    to_world(v, j, s);
+    field_.evaluate(u, &s.value, &s.jacobian, nullptr);  // grid axes, per unit of u
+    to_world(s);
     return s;
   }
 
@@ -98,17 +96,15 @@ class VdtMap {
   }
 
  private:
+  /// Turns a sample in grid axes per unit of u into world axes per metre:
+  /// du/dp = R^T / resolution, so DT_v -> R DT_v and J -> R J R^T / resolution.
   template <typename Sample>
-  void to_world(const typename Field::Values& v, const typename Field::Jacobian& j,
-                Sample& s) const {
-    const double inv_res = frame().inv_resolution();
-    if (frame().axis_aligned()) {
-      s.value = v;
-      s.jacobian = j * inv_res;  // du/dp = I / resolution
-    } else {
+  void to_world(Sample& s) const {
+    s.jacobian *= frame().inv_resolution();
+    if (!frame().axis_aligned()) {
       const Matrix& r = frame().rotation();
-      s.value = r * v;
-      s.jacobian = r * j * r.transpose() * inv_res;  // du/dp = R^T / resolution
+      s.value = r * s.value;
+      s.jacobian = r * s.jacobian * r.transpose();
     }
   }
 
