@@ -10,7 +10,7 @@ cd "$(dirname "$0")/.."
 config="${1:-release}"
 packages=(build-essential cmake pkg-config git
           libeigen3-dev libyaml-cpp-dev libstb-dev zlib1g-dev
-          libgtest-dev libgmock-dev libbenchmark-dev libopencv-dev libcli11-dev)
+          libgtest-dev libgmock-dev libbenchmark-dev libopencv-dev libcli11-dev libceres-dev)
 
 missing=()
 for p in "${packages[@]}"; do

@@ -111,12 +111,13 @@ VdtMap<Dim>::VdtMap(Grid<std::int32_t, Dim> nearest, Field field)
 }
 
 template <int Dim>
-VdtMap<Dim> VdtMap<Dim>::build(const OccupancyGrid<Dim>& occupied) {
+VdtMap<Dim> VdtMap<Dim>::build(const OccupancyGrid<Dim>& occupied, bool all_occupied_cells) {
   for (int d = 0; d < Dim; ++d) {
     VDTNAV_CHECK(occupied.size()[d] >= 2,
                  "VdtMap: the map needs at least 2 cells along every axis");
   }
-  Grid<std::int32_t, Dim> nearest = nearest_occupied_cells(occupied);
+  Grid<std::int32_t, Dim> nearest =
+      nearest_occupied_cells(all_occupied_cells ? occupied : surface_cells(occupied));
   VDTNAV_CHECK(nearest[0] != kNoFeature,
                "VdtMap: the map has no occupied cell, so its distance transform is undefined");
   // Samples of DT_v at the cell centres, in the grid's own axes (metres).

@@ -284,6 +284,29 @@ Grid<float, Dim> signed_distance_transform(const OccupancyGrid<Dim>& occupied) {
   return sdt;
 }
 
+template <int Dim>
+OccupancyGrid<Dim> surface_cells(const OccupancyGrid<Dim>& occupied) {
+  OccupancyGrid<Dim> surface(occupied.size(), occupied.frame(), 0);
+  bool any = false;
+  for (std::size_t c = 0; c < occupied.num_cells(); ++c) {
+    if (!occupied[c]) continue;
+    const auto i = occupied.index_of(static_cast<std::ptrdiff_t>(c));
+    bool exposed = false;
+    for (int d = 0; d < Dim && !exposed; ++d) {
+      for (int step : {-1, 1}) {
+        auto j = i;
+        j[d] += step;
+        if (occupied.contains(j) && !occupied(j)) exposed = true;
+      }
+    }
+    surface[c] = exposed ? 1 : 0;
+    any |= exposed;
+  }
+  return any ? surface : occupied;
+}
+
+template OccupancyGrid<2> surface_cells<2>(const OccupancyGrid<2>&);
+template OccupancyGrid<3> surface_cells<3>(const OccupancyGrid<3>&);
 template Grid<Eigen::Matrix<float, 2, 1>, 2> vector_distance_transform<2>(
     const Grid<std::int32_t, 2>&);
 template Grid<Eigen::Matrix<float, 3, 1>, 3> vector_distance_transform<3>(

@@ -51,7 +51,7 @@ TYPED_TEST(VdtMapTest, InterpolatesTheExactVdtAtCellCentres) {
   for (double yaw : {0.0, 0.6}) {
     const auto occ = TestFixture::room(yaw);
     const auto map = VdtMap<kDim>::build(occ);
-    const auto nearest = nearest_occupied_cells(occ);
+    const auto nearest = nearest_occupied_cells(surface_cells(occ));
     for (std::size_t c = 0; c < occ.num_cells(); c += 7) {
       const auto i = occ.index_of(static_cast<std::ptrdiff_t>(c));
       const auto p = occ.cell_center(i);

@@ -169,3 +169,38 @@ TYPED_TEST(VectorDistanceTransformTest, VdtIsCellMinusFeatureInMetres) {
 
 }  // namespace
 }  // namespace vdtnav
+
+namespace vdtnav {
+namespace {
+
+TYPED_TEST(VectorDistanceTransformTest, SurfaceCellsGiveTheSameTransformOutsideObstacles) {
+  constexpr int kDim = TestFixture::kDim;
+  std::mt19937 rng(31);
+  std::uniform_real_distribution<double> uni(0.0, 1.0);
+  for (int trial = 0; trial < 20; ++trial) {
+    auto occ = TestFixture::make(TestFixture::Index::Constant(kDim == 2 ? 30 : 10));
+    // Blobby obstacles: thick regions with interiors.
+    for (auto& v : occ.values()) v = uni(rng) < 0.3 ? 1 : 0;
+    const auto surface = surface_cells(occ);
+    const auto d_all = TestFixture::brute_force_d2(occ);
+    const auto nearest = nearest_occupied_cells(surface);
+    for (std::size_t c = 0; c < occ.num_cells(); ++c) {
+      ASSERT_TRUE(!surface[c] || occ[c]);
+      if (occ[c]) continue;
+      const auto i = occ.index_of(static_cast<std::ptrdiff_t>(c));
+      ASSERT_EQ((i - occ.index_of(nearest[c])).squaredNorm(), d_all[c]);
+    }
+  }
+  // A solid block: only its outer layer is surface.
+  auto block = TestFixture::make(TestFixture::Index::Constant(7));
+  for (std::size_t c = 0; c < block.num_cells(); ++c) {
+    const auto i = block.index_of(static_cast<std::ptrdiff_t>(c));
+    block[c] = ((i.array() >= 1).all() && (i.array() <= 5).all()) ? 1 : 0;
+  }
+  const auto s = surface_cells(block);
+  EXPECT_FALSE(s(TestFixture::Index::Constant(3)));
+  EXPECT_TRUE(s(TestFixture::Index::Constant(1)));
+}
+
+}  // namespace
+}  // namespace vdtnav

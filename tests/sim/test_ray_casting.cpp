@@ -18,6 +18,12 @@ TEST(RayCasting, HitsTheNearFaceOfAWall) {
   const double a = 0.4;  // slanted: the face x = 1.5 is reached after (1.5 - 0.52) / cos a
   EXPECT_NEAR(cast_ray<2>(g, o, Eigen::Vector2d(std::cos(a), std::sin(a)), 10.0),
               0.98 / std::cos(a), 1e-12);
+  // Thin-wall surface: the centre line of the wall cells, x = 1.525.
+  EXPECT_NEAR(cast_ray<2>(g, o, Eigen::Vector2d(1, 0), 10.0, RaySurface::kCellCentre), 1.525 - 0.52,
+              1e-12);
+  EXPECT_NEAR(
+      cast_ray<2>(g, o, Eigen::Vector2d(std::cos(a), std::sin(a)), 10.0, RaySurface::kCellCentre),
+      1.005 / std::cos(a), 1e-12);
   EXPECT_TRUE(std::isinf(cast_ray<2>(g, o, Eigen::Vector2d(-1, 0), 10.0)));  // leaves the grid
   EXPECT_TRUE(std::isinf(cast_ray<2>(g, o, Eigen::Vector2d(1, 0), 0.5)));    // beyond max range
 }

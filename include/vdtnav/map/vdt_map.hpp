@@ -49,8 +49,13 @@ class VdtMap {
   VdtMap(Grid<std::int32_t, Dim> nearest, Field field);
 
   /// \brief Builds the exact VDT of an occupancy grid and its interpolant.
+  ///
+  /// The features are the surface cells (surface_cells()): outside obstacles DT_v is exactly
+  /// p - c(p) with c the nearest occupied cell; inside thick obstacles it points to the nearest
+  /// surface cell rather than being zero (set all_occupied_cells to keep the plain definition).
   /// \throws ConfigError when no cell is occupied or an axis has fewer than 2 cells.
-  [[nodiscard]] static VdtMap build(const OccupancyGrid<Dim>& occupied);
+  [[nodiscard]] static VdtMap build(const OccupancyGrid<Dim>& occupied,
+                                    bool all_occupied_cells = false);
 
   /// \brief Interpolated DT_v and Jacobian at world point p.
   [[nodiscard]] VdtSample<Dim> evaluate(const Vector& p) const {

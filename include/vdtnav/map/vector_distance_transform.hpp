@@ -26,6 +26,17 @@ inline constexpr std::int32_t kNoFeature = -1;
 template <int Dim>
 [[nodiscard]] Grid<std::int32_t, Dim> nearest_occupied_cells(const OccupancyGrid<Dim>& occupied);
 
+/// \brief The surface cells of an occupancy grid: occupied cells with at least one free
+/// 4-neighbour (6-neighbour in 3D) inside the grid. When no cell qualifies (an all-occupied grid),
+/// every occupied cell is returned.
+///
+/// For every free cell the nearest occupied cell is a surface cell, so a transform of the surface
+/// cells equals that of all occupied cells outside obstacles; inside them it keeps pointing to the
+/// nearest surface instead of collapsing to zero, which keeps range noise that pushes an endpoint
+/// into a thick wall from being clipped.
+template <int Dim>
+[[nodiscard]] OccupancyGrid<Dim> surface_cells(const OccupancyGrid<Dim>& occupied);
+
 /// \brief DT_v at every cell centre, in the grid's own axes and metres: (i - c(i)) * resolution.
 /// Cells without a feature get NaN.
 template <int Dim>

@@ -3,20 +3,68 @@
 /// \brief Exact ray casting through an occupancy grid (Amanatides & Woo's voxel traversal), in
 /// 2D and 3D: the range at which a ray first enters an occupied cell.
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
+
+#include <Eigen/Core>
 
 #include "vdtnav/map/grid.hpp"
 
 namespace vdtnav::sim {
 
-/// \brief Distance along the unit direction `dir` from `origin` (world frame) to the boundary of
-/// the first occupied cell the ray enters, or +inf when none is hit within `max_range` or the
-/// ray leaves the grid. A ray starting inside an occupied cell returns 0.
+namespace detail {
+
+/// First crossing, for t in [t_in, t_out], of the ray start + t dir (cell units, metres along the
+/// ray via inv_res) with the thin-wall segments inside occupied cell `cell`: half-segments from its
+/// centre towards each 4-adjacent occupied neighbour, or a '+' when it has none; +inf if none.
+template <typename Grid2D>
+double thin_wall_hit(const Grid2D& grid, const Eigen::Vector2i& cell, const Eigen::Vector2d& start,
+                     const Eigen::Vector2d& dir, double inv_res, double t_in, double t_out) {
+  const Eigen::Vector2d centre = cell.cast<double>() + Eigen::Vector2d::Constant(0.5);
+  const Eigen::Vector2i steps[4] = {{1, 0}, {-1, 0}, {0, 1}, {0, -1}};
+  bool any = false;
+  bool arm[4];
+  for (int k = 0; k < 4; ++k) {
+    const Eigen::Vector2i nb = cell + steps[k];
+    arm[k] = grid.contains(nb) && grid(nb);
+    any |= arm[k];
+  }
+  double best = std::numeric_limits<double>::infinity();
+  for (int k = 0; k < 4; ++k) {
+    if (any && !arm[k]) continue;
+    // Half-segment from the centre along axis a = k / 2 towards sign s, length half a cell.
+    const int a = k / 2, b = 1 - a;
+    const double s = steps[k][a];
+    if (dir[b] == 0.0) continue;                                    // parallel to the segment
+    const double tc = (centre[b] - start[b]) / (dir[b] * inv_res);  // crosses the segment's line
+    const double along = (start[a] + tc * dir[a] * inv_res - centre[a]) * s;
+    if (along < -1e-12 || along > 0.5 + 1e-12) continue;
+    if (tc >= t_in - 1e-12 && tc <= t_out + 1e-12) best = std::min(best, std::max(tc, t_in));
+  }
+  return best;
+}
+
+}  // namespace detail
+
+/// \brief Where a ray stops in the first occupied cell it enters.
+enum class RaySurface {
+  kCellBoundary,  ///< the face it enters through: occupied cells are solid squares (cubes)
+  /// Thin walls through the cell centres, where the VDT (DT_v = p - c(p)) is zero, so that the
+  /// map and the simulated world agree. In 2D the surface is exact: the segments joining the
+  /// centres of 4-adjacent occupied cells (a '+' through an isolated cell). In 3D the ray stops
+  /// half a cell past the face it entered through.
+  kCellCentre,
+};
+
+/// \brief Distance along the unit direction `dir` from `origin` (world frame) to the surface
+/// (see RaySurface) of the first occupied cell the ray enters, or +inf when none is hit within
+/// `max_range` or the ray leaves the grid. A ray starting inside an occupied cell returns 0.
 template <int Dim>
 [[nodiscard]] double cast_ray(const OccupancyGrid<Dim>& grid,
                               const typename SpaceTraits<Dim>::Vector& origin,
-                              const typename SpaceTraits<Dim>::Vector& dir, double max_range) {
+                              const typename SpaceTraits<Dim>::Vector& dir, double max_range,
+                              RaySurface surface = RaySurface::kCellBoundary) {
   using Vector = typename SpaceTraits<Dim>::Vector;
   using Index = typename SpaceTraits<Dim>::Index;
   constexpr double kInf = std::numeric_limits<double>::infinity();
@@ -44,15 +92,28 @@ template <int Dim>
     }
   }
   double t = 0.0;
+  int entered = -1;  // axis of the face the ray last crossed
   while (t <= max_range) {
     if (!grid.contains(cell)) return kInf;
-    if (grid(cell)) return t;
+    if (grid(cell)) {
+      if (surface == RaySurface::kCellBoundary || entered < 0) return t;
+      if constexpr (Dim == 2) {
+        const double t_exit = std::min(t_max[0], t_max[1]);
+        const double hit = detail::thin_wall_hit(grid, cell, start, local_dir, inv_res, t, t_exit);
+        if (hit <= max_range) return hit;
+        if (!std::isinf(hit)) return kInf;
+      } else {
+        const double hit = t + 0.5 * t_delta[entered];
+        return hit <= max_range ? hit : kInf;
+      }
+    }
     int axis = 0;
     for (int d = 1; d < Dim; ++d)
       if (t_max[d] < t_max[axis]) axis = d;
     t = t_max[axis];
     t_max[axis] += t_delta[axis];
     cell[axis] += step[axis];
+    entered = axis;
   }
   return kInf;
 }

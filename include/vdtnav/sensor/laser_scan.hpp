@@ -1,0 +1,77 @@
+#pragma once
+/// \file
+/// \brief A planar range scan as a LiDAR driver delivers it, and the observation points the
+/// estimators use (SPEC: points in the sensor frame with the range noise that produced them, plus
+/// the mounting pose).
+
+#include <cmath>
+#include <cstddef>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "vdtnav/core/pose2.hpp"
+
+namespace vdtnav {
+
+/// \brief One 2D scan (ROS sensor_msgs/LaserScan semantics).
+struct LaserScan {
+  double time = 0.0;             ///< seconds
+  std::vector<double> ranges;    ///< metres; NaN/inf/out-of-range readings are dropped
+  double angle_min = 0.0;        ///< radians, angle of beam 0 in the sensor frame
+  double angle_increment = 0.0;  ///< radians between beams
+  std::vector<double> angles;    ///< explicit beam angles; when non-empty, used instead
+  double range_min = 0.1;        ///< metres; readings < range_min are dropped
+  double range_max = 30.0;       ///< metres; readings >= range_max are dropped (no return)
+  Pose2 mount = Pose2::Zero();   ///< sensor pose in the robot frame
+  double sigma_range = 0.02;     ///< range noise standard deviation, metres
+
+  /// \return the angle of beam i in the sensor frame.
+  [[nodiscard]] double angle(std::size_t i) const {
+    return angles.empty() ? angle_min + static_cast<double>(i) * angle_increment : angles[i];
+  }
+};
+
+/// \brief The valid beams of a scan as points in the robot frame.
+///
+/// Beam i with range r and angle theta ends at  p = t_m + R(phi_m) r (cos theta, sin theta)  in the
+/// robot frame (SPEC's corrected (2.11) after the mounting transform); dp/dr = R(phi_m) (cos, sin).
+struct ScanPoints {
+  std::vector<Eigen::Vector2d> points;      ///< endpoints, robot frame
+  std::vector<Eigen::Vector2d> directions;  ///< unit beam directions (dp/dr), robot frame
+  std::vector<double> ranges;               ///< the ranges kept
+  std::vector<std::size_t> beam;            ///< index of each kept beam in the scan
+  double sigma_range = 0.0;
+  std::size_t dropped_not_finite = 0;    ///< NaN or inf readings
+  std::size_t dropped_out_of_range = 0;  ///< outside [range_min, range_max)
+
+  [[nodiscard]] std::size_t size() const noexcept { return points.size(); }
+};
+
+/// \brief Converts a scan to robot-frame points, dropping and counting invalid readings.
+[[nodiscard]] inline ScanPoints scan_points(const LaserScan& scan) {
+  ScanPoints out;
+  out.sigma_range = scan.sigma_range;
+  const double cm = std::cos(scan.mount[2]), sm = std::sin(scan.mount[2]);
+  for (std::size_t i = 0; i < scan.ranges.size(); ++i) {
+    const double r = scan.ranges[i];
+    if (!std::isfinite(r)) {
+      ++out.dropped_not_finite;
+      continue;
+    }
+    if (r < scan.range_min || r >= scan.range_max) {
+      ++out.dropped_out_of_range;
+      continue;
+    }
+    const double a = scan.angle(i);
+    const double ca = std::cos(a), sa = std::sin(a);
+    const Eigen::Vector2d dir(cm * ca - sm * sa, sm * ca + cm * sa);
+    out.points.emplace_back(scan.mount[0] + r * dir.x(), scan.mount[1] + r * dir.y());
+    out.directions.push_back(dir);
+    out.ranges.push_back(r);
+    out.beam.push_back(i);
+  }
+  return out;
+}
+
+}  // namespace vdtnav

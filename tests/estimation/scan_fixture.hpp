@@ -1,0 +1,53 @@
+#pragma once
+// Test scans: ray cast in the generated floor plan with thin-wall surfaces (consistent with the
+// VDT), so that noise-free scans fit the map exactly up to interpolation.
+
+#include <cmath>
+#include <random>
+
+#include "vdtnav/map/vdt_map.hpp"
+#include "vdtnav/sensor/laser_scan.hpp"
+#include "vdtnav/sim/floor_plan.hpp"
+#include "vdtnav/sim/ray_casting.hpp"
+
+namespace vdtnav::test {
+
+struct World {
+  sim::FloorPlan plan = sim::generate_floor_plan({});
+  VdtMap2 map = VdtMap2::build(plan.occupancy);
+};
+
+inline const World& world() {
+  static const World w;
+  return w;
+}
+
+/// A UTM-30LX-like scan (270 degrees, `beams` beams) from `pose`, range noise sigma (0: none).
+inline LaserScan simulate_scan(const Pose2& pose, double sigma, std::mt19937& rng,
+                               int beams = 1081) {
+  LaserScan scan;
+  scan.angle_min = -0.75 * M_PI;
+  scan.angle_increment = 1.5 * M_PI / (beams - 1);
+  scan.range_min = 0.1;
+  scan.range_max = 30.0;
+  scan.sigma_range = sigma > 0 ? sigma : 0.02;
+  std::normal_distribution<double> noise(0.0, sigma > 0 ? sigma : 1.0);
+  for (int i = 0; i < beams; ++i) {
+    const double a = pose[2] + scan.angle(static_cast<std::size_t>(i));
+    const double r = sim::cast_ray<2>(world().plan.occupancy, pose.head<2>(),
+                                      Eigen::Vector2d(std::cos(a), std::sin(a)), scan.range_max,
+                                      sim::RaySurface::kCellCentre);
+    scan.ranges.push_back(std::isfinite(r) && sigma > 0 ? r + noise(rng) : r);
+  }
+  return scan;
+}
+
+/// A pose on the tour: in a room, looking along the tour.
+inline Pose2 tour_pose(std::size_t k) {
+  const auto& t = world().plan.tour;
+  const Eigen::Vector2d a = t[k % t.size()], b = t[(k + 1) % t.size()];
+  const Eigen::Vector2d p = 0.6 * a + 0.4 * b;
+  return Pose2(p.x(), p.y(), std::atan2(b.y() - a.y(), b.x() - a.x()) + 0.2);
+}
+
+}  // namespace vdtnav::test
