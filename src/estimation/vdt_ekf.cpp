@@ -26,6 +26,10 @@ void ekf_predict(MotionModelKind kind, const MotionNoise& noise, const OdometryS
     x = Pose2(x[0] + dt * odo.v * c, x[1] + dt * odo.v * s,
               wrap_angle(x[2] + dt * odo.w));                            // (3.7)
     p = gx * p * gx.transpose() + gu * q.asDiagonal() * gu.transpose();  // (3.8)
+    // Random-walk floor: variance grows linearly with time.
+    p.diagonal() += dt * Eigen::Vector3d(noise.floor_xy_rate * noise.floor_xy_rate,
+                                         noise.floor_xy_rate * noise.floor_xy_rate,
+                                         noise.floor_yaw_rate * noise.floor_yaw_rate);
   } else {
     const Pose2& d = odo.delta;
     Eigen::Matrix3d f = Eigen::Matrix3d::Identity();  // d(x (+) d)/dx

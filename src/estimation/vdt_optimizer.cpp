@@ -6,6 +6,8 @@
 #include <cmath>
 #include <utility>
 
+#include <Eigen/Cholesky>
+
 #include "vdtnav/core/error.hpp"
 
 namespace vdtnav {
@@ -273,10 +275,10 @@ LocalizationResult VdtOptimizer::solve(const ScanPoints& scan, const Pose2& gues
   }
   result.pose = Pose2(x[0], x[1], wrap_angle(x[2]));
   result.status = converged ? LocalizationStatus::kConverged : LocalizationStatus::kNotConverged;
-  if (converged) {
-    result.has_covariance = covariance(scan, result.pose, inlier, &result.covariance);
-    if (!result.has_covariance) result.status = LocalizationStatus::kNotConverged;
-  }
+  // The covariance is reported whenever the Hessian at the estimate is positive definite, also
+  // when Ceres stopped at its iteration limit (the status says so); otherwise it is not a minimum.
+  result.has_covariance = covariance(scan, result.pose, inlier, &result.covariance);
+  if (!result.has_covariance) result.status = LocalizationStatus::kNotConverged;
   return result;
 }
 
@@ -307,6 +309,20 @@ bool VdtOptimizer::covariance(const ScanPoints& scan, const Pose2& pose,
   const Eigen::Matrix3d h_inv = llt.solve(Eigen::Matrix3d::Identity());
   *cov = h_inv * middle * h_inv;  // (3.4) with J = -H^{-1} d^2(d_VCD/2)/dX dr
   *cov = 0.5 * (*cov + cov->transpose());
+  if (options_.variance_factor && m2 > 0.0) {
+    // A posteriori variance factor of the weighted residuals (chi^2 / degrees of freedom).
+    double chi2 = 0.0;
+    int n = 0;
+    const double c = std::cos(pose[2]), s = std::sin(pose[2]);
+    for (std::size_t i = 0; i < scan.size(); ++i) {
+      if (!inliers[i]) continue;
+      const BeamDisparity b = model_.disparity(pose, c, s, scan.points[i], scan.directions[i]);
+      chi2 += b.d.dot(model_.disparity_covariance(b, scan.sigma_range).ldlt().solve(b.d));
+      ++n;
+    }
+    const double factor = n > 2 ? chi2 / (2.0 * n - 3.0) : 1.0;
+    if (factor > 1.0) *cov *= factor;
+  }
   return cov->allFinite();
 }
 

@@ -13,6 +13,7 @@ run(${CMAKE_COMMAND} -S ${CONSUMER_DIR} -B ${WORK_DIR}/consumer -DCMAKE_PREFIX_P
 run(${CMAKE_COMMAND} --build ${WORK_DIR}/consumer)
 run(${WORK_DIR}/consumer/consumer_core)
 run(${WORK_DIR}/consumer/consumer_io ${WORK_DIR}/roundtrip.vdtmap)
+run(${WORK_DIR}/consumer/consumer_localization)
 # A component that does not exist must make a REQUIRED find fail.
 execute_process(COMMAND ${CMAKE_COMMAND} -S ${CONSUMER_DIR} -B ${WORK_DIR}/consumer_bad
                 -DCMAKE_PREFIX_PATH=${prefix} -DASK_FOR_MISSING_COMPONENT=ON

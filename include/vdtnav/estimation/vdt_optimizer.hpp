@@ -44,6 +44,10 @@ struct VdtOptimizerOptions {
   /// also built at resolution x 2^k, k = levels .. 1, and solved there first with a wide gate and a
   /// Cauchy loss, which widens the basin of convergence past thin structures.
   int pyramid_levels = 2;
+  /// Scale the covariance by the a posteriori variance factor s^2 = sum_i d_i^T R_i^-1 d_i /
+  /// (2n - 3) when it exceeds 1 (R_i: disparity covariance with the map floor): the residuals
+  /// themselves say when the map is rougher than the floor assumes.
+  bool variance_factor = false;
 };
 
 /// \brief Algorithm 1's OPTIMIZE: one scan against the map from an initial guess.
@@ -52,7 +56,8 @@ class VdtOptimizer {
   /// \throws ConfigError for invalid options.
   VdtOptimizer(const VdtMap2& map, const VdtOptimizerOptions& options = {});
 
-  /// \brief Minimises d_VCD from `guess`; fills the covariance when the solve converged.
+  /// \brief Minimises d_VCD from `guess`; fills the covariance when the estimate is a minimum
+  /// (positive definite Hessian), with status kNotConverged if Ceres hit its iteration limit.
   [[nodiscard]] LocalizationResult solve(const ScanPoints& scan, const Pose2& guess) const;
 
   /// \brief The pose covariance at `pose` over the beams flagged in `inliers`.
