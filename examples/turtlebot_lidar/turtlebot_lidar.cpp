@@ -363,6 +363,7 @@ int main(int argc, char** argv) {
       }
       const auto range = viz::finite_range(land);
       viz::Figure fig(1600, 700, 1, 2);
+      fig.font_scale(2);
       fig.title("d_VCD around the true pose (scan " + std::to_string(k) + ")");
       fig.axes(0, 0)
           .image(viz::heatmap(land, viz::Colormap::kViridis, range.first, range.second), -span,

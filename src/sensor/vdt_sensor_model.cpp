@@ -91,6 +91,22 @@ BeamDisparity VdtSensorModel::disparity(const Pose2& pose, double c, double s,
   return b;
 }
 
+Eigen::Vector2d VdtSensorModel::disparity_value(const Pose2& pose, double c, double s,
+                                                const Eigen::Vector2d& p, bool* inlier) const {
+  const Eigen::Vector2d q(pose[0] + c * p.x() - s * p.y(), pose[1] + s * p.x() + c * p.y());
+  bool inside = false;
+  Eigen::Vector2d d;
+  if (options_.residual == ResidualMode::kNearestPoint) {
+    const auto smp = map_->nearest_point_query(q);
+    d = smp.value;
+    inside = smp.inside;
+  } else {
+    d = map_->value(q, &inside);
+  }
+  if (inlier != nullptr) *inlier = inside && passes_gate(d);
+  return d;
+}
+
 Eigen::Matrix2d VdtSensorModel::disparity_covariance(const BeamDisparity& b,
                                                      double sigma_range) const {
   const double s2 = sigma_range * sigma_range;

@@ -1,8 +1,6 @@
 // The simulated Dataset 1: scans are the exact ray cast plus the configured range noise, odometry
 // is the true motion plus the configured velocity noise integrated on exact arcs, and the whole
 // run is reproducible per seed.
-#include <algorithm>
-#include "vdtnav/map/vdt_map.hpp"
 #include "vdtnav/sim/lidar_simulator.hpp"
 
 #include <gtest/gtest.h>
@@ -85,7 +83,7 @@ TEST(LidarOptions, DefaultsAreTheUtm30lxOfTable31) {
 }
 
 TEST(SimulateRun, NoiseFreeScansAreTheRayCastAndEndOnOccupiedCellBoundaries) {
-  const Fixture f(60);
+  const Fixture f(10);
   const auto& occ = f.plan.occupancy;
   LidarOptions lidar;
   lidar.surface = RaySurface::kCellBoundary;  // this test checks the solid-cell surface
@@ -95,7 +93,7 @@ TEST(SimulateRun, NoiseFreeScansAreTheRayCastAndEndOnOccupiedCellBoundaries) {
   ASSERT_EQ(run.scans.size(), run.size());
   const double res = occ.resolution();
   std::size_t hits = 0;
-  for (std::size_t k = 0; k < run.size(); k += 3) {
+  for (std::size_t k = 0; k < run.size(); ++k) {
     const LaserScan& scan = run.scans[k];
     EXPECT_EQ(scan.time, f.trajectory[k].t);
     EXPECT_EQ(run.times[k], f.trajectory[k].t);
@@ -127,7 +125,7 @@ TEST(SimulateRun, NoiseFreeScansAreTheRayCastAndEndOnOccupiedCellBoundaries) {
       ++hits;
     }
   }
-  EXPECT_GT(hits, 15u * 1081u);
+  EXPECT_GT(hits, 8u * 1081u);
 }
 
 TEST(SimulateRun, DefaultThinWallEndpointsLieOnTheZeroSetOfTheMapsVdt) {
@@ -148,7 +146,7 @@ TEST(SimulateRun, DefaultThinWallEndpointsLieOnTheZeroSetOfTheMapsVdt) {
 }
 
 TEST(SimulateRun, BeamsThatHitNothingWithinRangeMaxReadInfinity) {
-  const Fixture f(20);
+  const Fixture f(8);
   LidarOptions lidar;
   lidar.range_max = 2.0;
   const SimulatedRun run =
@@ -181,10 +179,12 @@ TEST(SimulateRun, RangeNoiseHasTheConfiguredStandardDeviation) {
   ASSERT_EQ(f.trajectory.size(), 200u);
   const auto& occ = f.plan.occupancy;
   const SimulatedRun exact = simulate_run(occ, f.trajectory, {}, NoiseProfile::none(), 9);
-  for (const NoiseProfile& noise :
-       {NoiseProfile::table_3_2_sigma(), NoiseProfile::table_3_2_variance()}) {
+  // The default profile over 200 scans; the variance reading over the first 20.
+  for (const auto& [noise, scans] : {std::pair{NoiseProfile::table_3_2_sigma(), 200u},
+                                     std::pair{NoiseProfile::table_3_2_variance(), 20u}}) {
     SCOPED_TRACE("sigma_range " + std::to_string(noise.sigma_range));
-    const SimulatedRun noisy = simulate_run(occ, f.trajectory, {}, noise, 9);
+    const std::vector<TimedPose> part(f.trajectory.begin(), f.trajectory.begin() + scans);
+    const SimulatedRun noisy = simulate_run(occ, part, {}, noise, 9);
     std::vector<double> err;
     for (std::size_t k = 0; k < noisy.size(); ++k) {
       EXPECT_EQ(noisy.scans[k].sigma_range, noise.sigma_range);
@@ -198,15 +198,16 @@ TEST(SimulateRun, RangeNoiseHasTheConfiguredStandardDeviation) {
         err.push_back(noisy.scans[k].ranges[i] - r0);
       }
     }
-    ASSERT_GT(err.size(), 150000u);
+    ASSERT_GT(err.size(), scans * 900u);
     const auto [mean, std] = mean_std(err);
     EXPECT_NEAR(std, noise.sigma_range, 0.05 * noise.sigma_range);
     EXPECT_LT(std::abs(mean), 4 * noise.sigma_range / std::sqrt(err.size()));
   }
   // The other seed draws other noise.
-  const SimulatedRun a = simulate_run(occ, f.trajectory, {}, NoiseProfile::table_3_2_sigma(), 9);
-  const SimulatedRun b = simulate_run(occ, f.trajectory, {}, NoiseProfile::table_3_2_sigma(), 10);
-  EXPECT_NE(a.scans[5].ranges, b.scans[5].ranges);
+  const std::vector<TimedPose> few(f.trajectory.begin(), f.trajectory.begin() + 3);
+  const SimulatedRun a = simulate_run(occ, few, {}, NoiseProfile::table_3_2_sigma(), 9);
+  const SimulatedRun b = simulate_run(occ, few, {}, NoiseProfile::table_3_2_sigma(), 10);
+  EXPECT_NE(a.scans[2].ranges, b.scans[2].ranges);
 }
 
 TEST(SimulateRun, NoiseFreeOdometryComposesToTheTrueTrajectory) {
@@ -263,7 +264,7 @@ TEST(SimulateRun, OdometryNoiseHasTheConfiguredStandardDeviationAndDrifts) {
 }
 
 TEST(SimulateRun, SameSeedSameRunAndTheSameDrawsForEveryProfile) {
-  const Fixture f(50);
+  const Fixture f(8);
   const auto& occ = f.plan.occupancy;
   const auto a = simulate_run(occ, f.trajectory, {}, NoiseProfile::table_3_2_sigma(), 77);
   const auto b = simulate_run(occ, f.trajectory, {}, NoiseProfile::table_3_2_sigma(), 77);
@@ -297,27 +298,31 @@ TEST(SimulateRun, InvalidInputThrowsConfigError) {
   EXPECT_THROW((void)simulate_run(occ, {}, {}, {}, 1), ConfigError);
 }
 
-TEST(SimulateDefaultRun, ProducesTheRequestedScansQuickly) {
+TEST(SimulateDefaultRun, IsTheDefaultPipelineWithTheRequestedNumberOfScans) {
   const auto plan = generate_floor_plan({});
   // A short open path (3 m of corridor) so that the run is exactly min_scans long.
   const std::vector<Eigen::Vector2d> path{{plan.cross_corridor_x - 1.5, plan.corridor_y},
                                           {plan.cross_corridor_x + 1.5, plan.corridor_y}};
   const auto start = std::chrono::steady_clock::now();
-  const SimulatedRun run = simulate_default_run(plan.occupancy, path, 2000, 1);
+  const SimulatedRun run = simulate_default_run(plan.occupancy, path, 150, 1);
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  std::cout << "simulate_default_run: " << run.size() << " scans of 1081 beams in " << seconds
-            << " s\n";
-  ASSERT_EQ(run.size(), 2000u);
+  std::cout << "simulate_default_run: " << run.size() / seconds << " scans/s (1081 beams)\n";
+  ASSERT_EQ(run.size(), 150u);
   EXPECT_EQ(run.scans[0].sigma_range, 0.02);
   EXPECT_EQ(run.scans[0].ranges.size(), 1081u);
-  // It is the same as the explicit pipeline.
+  // It is the explicit pipeline with default options (the same draws, sample by sample).
   TrajectoryOptions o;
-  o.min_steps = 2000;
-  const SimulatedRun same = simulate_run(plan.occupancy, follow_path(path, plan.occupancy, o), {},
-                                         NoiseProfile::table_3_2_sigma(), 1);
-  EXPECT_EQ(run.scans[1999].ranges, same.scans[1999].ranges);
-  EXPECT_EQ(run.odometry[1999].delta, same.odometry[1999].delta);
+  o.min_steps = 150;
+  std::vector<TimedPose> trajectory = follow_path(path, plan.occupancy, o);
+  trajectory.resize(20);
+  const SimulatedRun same =
+      simulate_run(plan.occupancy, trajectory, {}, NoiseProfile::table_3_2_sigma(), 1);
+  for (std::size_t k = 0; k < same.size(); ++k) {
+    ASSERT_EQ(run.truth[k], same.truth[k]);
+    ASSERT_EQ(run.scans[k].ranges, same.scans[k].ranges);
+    ASSERT_EQ(run.odometry[k].delta, same.odometry[k].delta);
+  }
 }
 
 TEST(SimulateRun, DatasetOneOnTheStageHospitalSection) {
@@ -328,7 +333,7 @@ TEST(SimulateRun, DatasetOneOnTheStageHospitalSection) {
   auto trajectory = follow_path(path, occ, {});
   const auto udt = unsigned_distance_transform(nearest_occupied_cells(occ));
   for (const auto& s : trajectory) ASSERT_GE(udt(occ.cell_of(s.pose.head<2>())), 0.2);
-  trajectory.resize(300);
+  trajectory.resize(40);
   const auto exact = simulate_run(occ, trajectory, {}, NoiseProfile::none(), 3);
   const auto noisy = simulate_run(occ, trajectory, {}, NoiseProfile::table_3_2_sigma(), 3);
   std::size_t finite = 0, total = 0;

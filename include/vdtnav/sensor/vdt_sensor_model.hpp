@@ -88,6 +88,11 @@ class VdtSensorModel {
                                         const Eigen::Vector2d& p, const Eigen::Vector2d& u,
                                         BeamCurvature* curvature = nullptr) const;
 
+  /// \brief Disparity only (no derivatives: the cheaper lookup), and whether the beam is an
+  /// inlier, for residual-only evaluations and gating.
+  [[nodiscard]] Eigen::Vector2d disparity_value(const Pose2& pose, double cos_phi, double sin_phi,
+                                                const Eigen::Vector2d& p, bool* inlier) const;
+
   /// \brief 2x2 covariance of d_i from the range noise (and the map-noise floor).
   [[nodiscard]] Eigen::Matrix2d disparity_covariance(const BeamDisparity& b,
                                                      double sigma_range) const;
