@@ -337,7 +337,9 @@ std::vector<TimedPose> follow_path(const std::vector<Eigen::Vector2d>& path,
       if (rotating) {
         w_cmd = std::clamp(kRotateGain * target.alpha, -o.max_turn_rate, o.max_turn_rate);
       } else {
-        const double remaining = static_cast<double>(stop - i) * kRouteSpacing;
+        // Along the route, or straight to the stop if the robot is off to the side of it.
+        const double remaining = std::max(static_cast<double>(stop - i) * kRouteSpacing,
+                                          (pts[stop] - pose.head<2>()).norm());
         v_cmd = std::min(
             o.speed, std::sqrt(2.0 * o.max_acceleration * std::max(0.0, remaining - kBrakeOffset)));
         if (std::abs(target.curvature) > 1e-9)

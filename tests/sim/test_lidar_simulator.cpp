@@ -300,9 +300,9 @@ TEST(SimulateRun, InvalidInputThrowsConfigError) {
 
 TEST(SimulateDefaultRun, IsTheDefaultPipelineWithTheRequestedNumberOfScans) {
   const auto plan = generate_floor_plan({});
-  // A short open path (3 m of corridor) so that the run is exactly min_scans long.
-  const std::vector<Eigen::Vector2d> path{{plan.cross_corridor_x - 1.5, plan.corridor_y},
-                                          {plan.cross_corridor_x + 1.5, plan.corridor_y}};
+  // A short open path (1 m of corridor, driven in ~3 s) so that the run is exactly min_scans long.
+  const std::vector<Eigen::Vector2d> path{{plan.cross_corridor_x - 0.5, plan.corridor_y},
+                                          {plan.cross_corridor_x + 0.5, plan.corridor_y}};
   const auto start = std::chrono::steady_clock::now();
   const SimulatedRun run = simulate_default_run(plan.occupancy, path, 150, 1);
   const double seconds =

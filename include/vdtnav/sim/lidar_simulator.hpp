@@ -71,8 +71,8 @@ struct SimulatedRun {
 ///
 /// Scan k: beam i leaves the true sensor pose compose(truth_k, mount) at angle
 /// -fov/2 + i * angular_resolution (sensor frame) and reads the exact range to the first occupied
-/// cell boundary (cast_ray) plus N(0, sigma_range^2), clamped at 0; beams that hit nothing within
-/// range_max read +inf.
+/// cell's surface (cast_ray with LidarOptions::surface) plus N(0, sigma_range^2), clamped at 0;
+/// beams that hit nothing within range_max read +inf.
 /// Odometry k >= 1: the true (v, w) of step k plus N(0, sigma_v^2), N(0, sigma_w^2), the sample
 /// interval dt, and `delta` = the exact unicycle arc of the *measured* (v, w) over dt
 /// (unicycle_increment), so dead reckoning drifts like wheel odometry. odometry[0] has dt = 0

@@ -27,7 +27,7 @@ namespace vdtnav::sim {
 /// \param waypoints number of places to visit (>= 2); fewer are used if the region is too small.
 /// \param clearance metres every path point keeps from obstacles (UDT at its cell).
 /// \param seed the same seed always gives the same tour.
-/// \return a dense open polyline (points about one cell apart) from the first waypoint to the
+/// \return a dense open polyline (points one to two cells apart) from the first waypoint to the
 ///         last.
 /// \throws ConfigError if waypoints < 2, clearance is negative, or no two free cells with the
 ///         clearance are connected.
