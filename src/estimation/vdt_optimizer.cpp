@@ -134,6 +134,24 @@ VdtOptimizer::VdtOptimizer(const VdtMap2& map, const VdtOptimizerOptions& option
 
 namespace {
 
+/// The Ceres settings of every solve here: 3 unknowns, one dense block, one thread, silent. The
+/// map stores float coefficients, so costs are known to ~1e-7 relative: ask no more.
+ceres::Solver::Options solver_options(TrustRegion trust_region, int max_iterations) {
+  ceres::Solver::Options so;
+  so.linear_solver_type = ceres::DENSE_NORMAL_CHOLESKY;
+  so.jacobi_scaling = false;
+  so.trust_region_strategy_type =
+      trust_region == TrustRegion::kDogleg ? ceres::DOGLEG : ceres::LEVENBERG_MARQUARDT;
+  so.max_num_iterations = max_iterations;
+  so.function_tolerance = 1e-6;
+  so.gradient_tolerance = 1e-10;
+  so.parameter_tolerance = 1e-6;  // relative: ~10 micrometres at 10 m from the origin
+  so.num_threads = 1;
+  so.logging_type = ceres::SILENT;
+  so.minimizer_progress_to_stdout = false;
+  return so;
+}
+
 /// One Ceres solve of the beams in `beams` from x (updated in place).
 ceres::Solver::Summary run_solver(const VdtSensorModel& model, const ScanPoints& scan,
                                   const std::vector<int>& beams, RobustLoss loss, double loss_scale,
@@ -149,19 +167,7 @@ ceres::Solver::Summary run_solver(const VdtSensorModel& model, const ScanPoints&
                                make_loss(loss, loss_scale), x);
     }
   }
-  ceres::Solver::Options so;
-  so.linear_solver_type = ceres::DENSE_NORMAL_CHOLESKY;
-  so.jacobi_scaling = false;
-  so.trust_region_strategy_type =
-      trust_region == TrustRegion::kDogleg ? ceres::DOGLEG : ceres::LEVENBERG_MARQUARDT;
-  so.max_num_iterations = max_iterations;
-  // The map stores float coefficients: costs are known to ~1e-7 relative, so ask no more.
-  so.function_tolerance = 1e-6;
-  so.gradient_tolerance = 1e-10;
-  so.parameter_tolerance = 1e-6;  // relative: ~10 micrometres at 10 m from the origin
-  so.num_threads = 1;
-  so.logging_type = ceres::SILENT;
-  so.minimizer_progress_to_stdout = false;
+  const ceres::Solver::Options so = solver_options(trust_region, max_iterations);
   ceres::Solver::Summary summary;
   ceres::Solve(so, &problem, &summary);
   return summary;
@@ -185,16 +191,7 @@ void solve_cauchy_irls(const VdtSensorModel& model, const ScanPoints& scan,
     po.disable_all_safety_checks = true;
     ceres::Problem problem(po);
     problem.AddResidualBlock(new ScanCost(model, scan, beams, sqrt_w), nullptr, x);
-    ceres::Solver::Options so;
-    so.linear_solver_type = ceres::DENSE_NORMAL_CHOLESKY;
-    so.jacobi_scaling = false;
-    so.trust_region_strategy_type =
-        trust_region == TrustRegion::kDogleg ? ceres::DOGLEG : ceres::LEVENBERG_MARQUARDT;
-    so.max_num_iterations = max_iterations;
-    so.function_tolerance = 1e-6;
-    so.parameter_tolerance = 1e-6;
-    so.num_threads = 1;
-    so.logging_type = ceres::SILENT;
+    const ceres::Solver::Options so = solver_options(trust_region, max_iterations);
     ceres::Solver::Summary summary;
     ceres::Solve(so, &problem, &summary);
   }
