@@ -165,10 +165,7 @@ LocalizationResult UdtEkfLocalizer::update(const OdometryStep& odometry, const L
   if (used < options_.min_inliers) {
     result.status = LocalizationStatus::kTooFewObservations;
   } else {
-    p_ = info.inverse();
-    p_ = 0.5 * (p_ + p_.transpose());
-    const Eigen::Vector3d dx = p_ * b;
-    x_ = Pose2(x_[0] + dx[0], x_[1] + dx[1], wrap_angle(x_[2] + dx[2]));
+    ekf_apply_information(info, b, x_, p_);
     result.status = LocalizationStatus::kConverged;
     result.iterations = 1;
   }

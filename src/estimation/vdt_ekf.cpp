@@ -80,6 +80,11 @@ void ekf_update_information(const std::vector<Eigen::Vector2d>& innovation,
     info.noalias() += ht_rinv * h[i];
     b.noalias() += ht_rinv * innovation[i];
   }
+  ekf_apply_information(info, b, x, p);
+}
+
+void ekf_apply_information(const Eigen::Matrix3d& info, const Eigen::Vector3d& b, Pose2& x,
+                           Eigen::Matrix3d& p) {
   p = info.inverse();
   p = 0.5 * (p + p.transpose());
   const Eigen::Vector3d dx = p * b;
