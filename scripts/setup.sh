@@ -10,7 +10,8 @@ cd "$(dirname "$0")/.."
 config="${1:-release}"
 packages=(build-essential cmake pkg-config git
           libeigen3-dev libyaml-cpp-dev libstb-dev zlib1g-dev
-          libgtest-dev libgmock-dev libbenchmark-dev libopencv-dev libcli11-dev libceres-dev)
+          libgtest-dev libgmock-dev libbenchmark-dev libopencv-dev libcli11-dev libceres-dev
+          libpcl-dev liboctomap-dev)
 
 missing=()
 for p in "${packages[@]}"; do
@@ -34,7 +35,7 @@ case "$config" in
     # -O1 with line tables only: fast to compile, enough for sanitizer stack traces.
     cmake -S . -B build/asan -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS_DEBUG="-O1 -g1" \
       -DVDTNAV_WERROR=ON -DVDTNAV_SANITIZE=ON -DVDTNAV_BUILD_EXAMPLES=OFF \
-      -DVDTNAV_BUILD_BENCHMARKS=OFF >/dev/null
+      -DVDTNAV_BUILD_BENCHMARKS=OFF -DVDTNAV_BUILD_FRONTENDS=OFF >/dev/null
     ;;
   *) echo "usage: scripts/setup.sh [release|asan]" >&2; exit 2 ;;
 esac
