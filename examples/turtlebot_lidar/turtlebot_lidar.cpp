@@ -26,6 +26,7 @@
 #include "vdtnav/estimation/udt_localizers.hpp"
 #include "vdtnav/estimation/vdt_ekf.hpp"
 #include "vdtnav/estimation/vdt_optimizer.hpp"
+#include "vdtnav/eval/nees.hpp"
 #include "vdtnav/io/occupancy_image.hpp"
 #include "vdtnav/sim/floor_plan.hpp"
 #include "vdtnav/sim/lidar_simulator.hpp"
@@ -37,13 +38,6 @@ namespace {
 
 using namespace vdtnav;
 using Clock = std::chrono::steady_clock;
-
-/// chi^2 quantile (Wilson-Hilferty), accurate to < 1 % for the large dof used here.
-double chi2_quantile(double p, double dof) {
-  const double z = p > 0.5 ? 1.959963984540054 : -1.959963984540054;  // p = 0.975 / 0.025
-  const double a = 2.0 / (9.0 * dof);
-  return dof * std::pow(1.0 - a + z * std::sqrt(a), 3.0);
-}
 
 struct Trace {  // one method on one run
   std::vector<Pose2> estimate;
@@ -88,11 +82,11 @@ Metrics evaluate(const Trace& t, const sim::SimulatedRun& run) {
   m.pos_mse = mean(pe2), m.pos_mse_std = stdev(pe2), m.ori_mse = mean(oe2),
   m.ori_mse_std = stdev(oe2);
   m.has_cov = nees.size() == pe.size();
-  if (m.has_cov) {
-    const double k = static_cast<double>(nees.size());
+  if (m.has_cov && !nees.empty()) {
     m.anees = mean(nees);
-    m.anees_lo = chi2_quantile(0.025, 3 * k) / k;
-    m.anees_hi = chi2_quantile(0.975, 3 * k) / k;
+    const eval::ChiSquareInterval bounds = eval::anees_interval(nees.size(), 3, 0.95);
+    m.anees_lo = bounds.lower;
+    m.anees_hi = bounds.upper;
   }
   m.lost_pct = 100.0 * lost / static_cast<double>(pe.size());
   m.ms_mean = mean(t.ms);

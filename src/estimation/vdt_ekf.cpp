@@ -1,5 +1,6 @@
 #include "vdtnav/estimation/vdt_ekf.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <utility>
 
@@ -9,46 +10,6 @@
 #include "vdtnav/core/error.hpp"
 
 namespace vdtnav {
-
-void ekf_predict(MotionModelKind kind, const MotionNoise& noise, const OdometryStep& odo, Pose2& x,
-                 Eigen::Matrix3d& p) {
-  const double c = std::cos(x[2]), s = std::sin(x[2]);
-  if (kind == MotionModelKind::kVelocity) {
-    const double dt = odo.dt;
-    Eigen::Matrix3d gx = Eigen::Matrix3d::Identity();  // (3.9)
-    gx(0, 2) = -dt * odo.v * s;
-    gx(1, 2) = dt * odo.v * c;
-    Eigen::Matrix<double, 3, 2> gu = Eigen::Matrix<double, 3, 2>::Zero();  // (3.10)
-    gu(0, 0) = dt * c;
-    gu(1, 0) = dt * s;
-    gu(2, 1) = dt;
-    const Eigen::Vector2d q(noise.sigma_v * noise.sigma_v, noise.sigma_w * noise.sigma_w);
-    x = Pose2(x[0] + dt * odo.v * c, x[1] + dt * odo.v * s,
-              wrap_angle(x[2] + dt * odo.w));                            // (3.7)
-    p = gx * p * gx.transpose() + gu * q.asDiagonal() * gu.transpose();  // (3.8)
-    // Random-walk floor: variance grows linearly with time.
-    p.diagonal() += dt * Eigen::Vector3d(noise.floor_xy_rate * noise.floor_xy_rate,
-                                         noise.floor_xy_rate * noise.floor_xy_rate,
-                                         noise.floor_yaw_rate * noise.floor_yaw_rate);
-  } else {
-    const Pose2& d = odo.delta;
-    Eigen::Matrix3d f = Eigen::Matrix3d::Identity();  // d(x (+) d)/dx
-    f(0, 2) = -s * d[0] - c * d[1];
-    f(1, 2) = c * d[0] - s * d[1];
-    Eigen::Matrix3d g = Eigen::Matrix3d::Identity();  // d(x (+) d)/dd
-    g(0, 0) = c;
-    g(0, 1) = -s;
-    g(1, 0) = s;
-    g(1, 1) = c;
-    const double t = std::hypot(d[0], d[1]), rot = std::abs(d[2]);
-    const double st = noise.a_tt * t + noise.a_tr * rot + noise.floor_t;
-    const double sr = noise.a_rr * rot + noise.a_rt * t + noise.floor_r;
-    const Eigen::Vector3d q(st * st, st * st, sr * sr);
-    x = compose(x, d);
-    p = f * p * f.transpose() + g * q.asDiagonal() * g.transpose();
-  }
-  p = 0.5 * (p + p.transpose());
-}
 
 void ekf_update_batch(const std::vector<Eigen::Vector2d>& innovation,
                       const std::vector<Eigen::Matrix<double, 2, 3>>& h,
@@ -107,30 +68,60 @@ void VdtEkfLocalizer::reset(const Pose2& pose, const Eigen::Matrix3d& covariance
 LocalizationResult VdtEkfLocalizer::update(const OdometryStep& odometry, const LaserScan& scan) {
   ekf_predict(options_.motion, options_.noise, odometry, x_, p_);
   const ScanPoints pts = scan_points(scan);
+  LocalizationResult result;
+  const int valid = static_cast<int>(pts.size());
+  const int invalid = static_cast<int>(pts.dropped_not_finite + pts.dropped_out_of_range);
+  const GuessSearchOptions& so = options_.search;
+  // The iterations start at the prediction, or, when the map explains the scan poorly there, at
+  // the best pose of a window search around it.
+  Pose2 xi = x_;
+  if (so.enabled && explained_fraction(model_, pts, x_, so.explained_distance) < so.search_below) {
+    xi = search_guess(model_, pts, x_, so, &p_);
+  }
+  const Eigen::Matrix3d prior_info = p_.inverse();
   thread_local std::vector<Eigen::Vector2d> nu;
   thread_local std::vector<Eigen::Matrix<double, 2, 3>> h;
   thread_local std::vector<Eigen::Matrix2d> r;
-  nu.clear();
-  h.clear();
-  r.clear();
-  for (std::size_t i = 0; i < pts.size(); ++i) {
-    const BeamDisparity b = model_.disparity(x_, pts.points[i], pts.directions[i]);
-    if (!b.inlier) continue;
-    nu.push_back(-b.d);  // (3.12) corrected: the expected disparity is zero
-    h.push_back(b.d_pose);
-    r.push_back(model_.disparity_covariance(b, pts.sigma_range));
+  Eigen::Matrix3d info = prior_info;
+  for (int it = 0; it < std::max(1, options_.max_iterations); ++it) {
+    nu.clear();
+    h.clear();
+    r.clear();
+    for (std::size_t i = 0; i < pts.size(); ++i) {
+      const BeamDisparity b = model_.disparity(xi, pts.points[i], pts.directions[i]);
+      if (!b.inlier) continue;
+      nu.push_back(-b.d);  // (3.12) corrected: the expected disparity is zero
+      h.push_back(b.d_pose);
+      r.push_back(model_.disparity_covariance(b, pts.sigma_range));
+    }
+    result.inliers = static_cast<int>(nu.size());
+    if (result.inliers < options_.min_inliers) break;
+    // Gauss-Newton step on (X - X_pred)^T P^-1 (X - X_pred) + sum d^T R^-1 d from the iterate
+    // X_i; at X_i = X_pred this is the information-form update (3.13)-(3.21).
+    info = prior_info;
+    Eigen::Vector3d b = -prior_info * pose_error(xi, x_);
+    for (std::size_t k = 0; k < nu.size(); ++k) {
+      const Eigen::Matrix<double, 3, 2> htri = h[k].transpose() * r[k].inverse();
+      info.noalias() += htri * h[k];
+      b.noalias() += htri * nu[k];
+    }
+    const Eigen::Vector3d step = info.ldlt().solve(b);
+    xi += step;
+    xi[2] = wrap_angle(xi[2]);
+    result.iterations = it + 1;
+    if (step.head<2>().norm() < 1e-5 && std::abs(step[2]) < 1e-5) break;
   }
-  LocalizationResult result;
-  result.inliers = static_cast<int>(nu.size());
-  result.dropped =
-      static_cast<int>(pts.size() + pts.dropped_not_finite + pts.dropped_out_of_range) -
-      result.inliers;
+  result.dropped = valid + invalid - result.inliers;
   if (result.inliers < options_.min_inliers) {
     result.status = LocalizationStatus::kTooFewObservations;
+  } else if (so.enabled &&
+             explained_fraction(model_, pts, xi, so.explained_distance) < so.accept_fraction) {
+    result.status = LocalizationStatus::kNotConverged;  // the map does not explain the scan
   } else {
-    ekf_update_information(nu, h, r, x_, p_);
+    x_ = xi;
+    Eigen::Matrix3d pn = info.inverse();
+    p_ = 0.5 * (pn + pn.transpose());
     result.status = LocalizationStatus::kConverged;
-    result.iterations = 1;
   }
   result.pose = x_;
   result.covariance = p_;

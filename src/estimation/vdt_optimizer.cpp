@@ -4,79 +4,187 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <utility>
 
 #include <Eigen/Cholesky>
 
 #include "vdtnav/core/error.hpp"
+#include "vdtnav/estimation/motion_model.hpp"
+#include "vdtnav/estimation/se3_manifold.hpp"
 
 namespace vdtnav {
 namespace {
 
-/// All inlier beams of a scan as one residual block (2 residuals per beam, pose x, y, phi).
+/// The Ceres parameter block of a pose: its size, the pose it holds, the manifold, and how a
+/// Jacobian in the pose perturbation of PoseTraits<Dim> becomes a Jacobian in the block.
+template <int Dim>
+struct Parameterization;
+
+/// 2D: (x, y, phi) as they are, Euclidean (the additive perturbation of PoseTraits<2>).
+template <>
+struct Parameterization<2> {
+  static constexpr int kAmbient = 3;
+  static void set(const Pose2& pose, double* x) {
+    x[0] = pose[0];
+    x[1] = pose[1];
+    x[2] = pose[2];
+  }
+  static Pose2 pose(const double* x) { return Pose2(x[0], x[1], x[2]); }
+  static Pose2 result(const double* x, const Pose2& /*guess*/, bool /*four_dof*/) {
+    return Pose2(x[0], x[1], wrap_angle(x[2]));
+  }
+  static ceres::Manifold* manifold(bool /*four_dof*/) { return nullptr; }
+  struct Jacobian {
+    Jacobian(const double* /*x*/, bool /*four_dof*/) {}
+    void operator()(const Eigen::Matrix<double, 2, 3>& d, double* out) const {
+      Eigen::Map<Eigen::Matrix<double, 2, 3, Eigen::RowMajor>>{out} = d;
+    }
+  };
+};
+
+/// 3D: (quaternion, t) on Se3LeftManifold, or Se3YawManifold in the 4-DOF mode.
+template <>
+struct Parameterization<3> {
+  static constexpr int kAmbient = 7;
+  static void set(const Pose3& pose, double* x) { se3_to_parameters(pose, x); }
+  static Pose3 pose(const double* x) { return se3_from_parameters(x); }
+  /// In the 4-DOF mode the attitude is rebuilt as Rz(psi) R_guess with an exact Rz, whose last
+  /// row (0, 0, 1) leaves the last row of R_guess, and so roll and pitch, bit for bit unchanged.
+  static Pose3 result(const double* x, const Pose3& guess, bool four_dof) {
+    Pose3 p = se3_from_parameters(x);
+    if (four_dof) {
+      const double psi = so3_log(p.linear() * guess.linear().transpose()).z();
+      const double c = std::cos(psi), s = std::sin(psi);
+      Eigen::Matrix3d rz;
+      rz << c, -s, 0.0, s, c, 0.0, 0.0, 0.0, 1.0;
+      p.linear() = rz * guess.linear();
+    }
+    return p;
+  }
+  /// Stateless, shared by every problem (not owned by them).
+  static ceres::Manifold* manifold(bool four_dof) {
+    static Se3LeftManifold se3;
+    static Se3YawManifold yaw;
+    return four_dof ? static_cast<ceres::Manifold*>(&yaw) : &se3;
+  }
+  using Jacobian = Se3AmbientJacobian;
+};
+
+/// Iterations of each coarse solve in 3D, and readings it uses at most (see solve()).
+constexpr int kCoarseIterations3d = 6;
+constexpr std::size_t kCoarsePoints3d = 1000;
+
+/// What every Ceres solve of one optimizer shares.
+struct SolveSetup {
+  TrustRegion trust_region = TrustRegion::kLevenbergMarquardt;
+  int max_iterations = 25;
+  bool four_dof = false;
+  double function_tolerance = 1e-6;
+  double parameter_tolerance = 1e-6;  // relative: ~10 micrometres at 10 m from the origin
+};
+
+/// All inlier readings of a set as one residual block (Dim residuals per reading, one pose block):
+/// one virtual call per evaluation, the rotation shared by every reading.
+template <int Dim>
 class ScanCost final : public ceres::CostFunction {
  public:
-  /// \param sqrt_weights per-beam IRLS weights sqrt(w_i) (empty: all 1).
-  ScanCost(const VdtSensorModel& model, const ScanPoints& scan, std::vector<int> beams,
-           std::vector<double> sqrt_weights = {})
-      : model_(model), scan_(scan), beams_(std::move(beams)), sqrt_w_(std::move(sqrt_weights)) {
-    set_num_residuals(2 * static_cast<int>(beams_.size()));
-    mutable_parameter_block_sizes()->push_back(3);
+  using P = Parameterization<Dim>;
+  using Traits = PoseTraits<Dim>;
+  using Vector = typename SpaceTraits<Dim>::Vector;
+
+  /// \param sqrt_weights per-reading IRLS weights sqrt(w_i) (empty: all 1).
+  ScanCost(const VdtSensorModelT<Dim>& model, const ObservationSet<Dim>& scan,
+           std::vector<int> beams, bool four_dof, std::vector<double> sqrt_weights = {})
+      : model_(model),
+        scan_(scan),
+        beams_(std::move(beams)),
+        sqrt_w_(std::move(sqrt_weights)),
+        four_dof_(four_dof) {
+    set_num_residuals(Dim * static_cast<int>(beams_.size()));
+    mutable_parameter_block_sizes()->push_back(P::kAmbient);
   }
   bool Evaluate(double const* const* params, double* residuals, double** jacobians) const override {
-    const Pose2 pose(params[0][0], params[0][1], params[0][2]);
-    const double c = std::cos(pose[2]), s = std::sin(pose[2]);
     const bool want_jacobian = jacobians != nullptr && jacobians[0] != nullptr;
+    const std::size_t n_res = static_cast<std::size_t>(num_residuals());
+    if constexpr (Dim == 3) {
+      // 3D lookups are memory-bound (4 x 4 x 4 nodes x 3 components each), so the Jacobian costs
+      // little more than the value once the nodes are in cache. A trial step's value-only call
+      // computes and keeps both; Ceres asks for the Jacobian at the same point when it accepts
+      // the step, and gets the kept one.
+      if (!want_jacobian) {
+        cache_residuals_.resize(n_res);
+        cache_jacobian_.resize(n_res * P::kAmbient);
+        evaluate(params[0], cache_residuals_.data(), cache_jacobian_.data());
+        std::copy(cache_residuals_.begin(), cache_residuals_.end(), residuals);
+        std::copy(params[0], params[0] + P::kAmbient, cache_params_);
+        cache_valid_ = true;
+        return true;
+      }
+      if (cache_valid_ && std::equal(params[0], params[0] + P::kAmbient, cache_params_)) {
+        std::copy(cache_residuals_.begin(), cache_residuals_.end(), residuals);
+        std::copy(cache_jacobian_.begin(), cache_jacobian_.end(), jacobians[0]);
+        return true;
+      }
+    }
+    evaluate(params[0], residuals, want_jacobian ? jacobians[0] : nullptr);
+    return true;
+  }
+
+ private:
+  /// Residuals and (if `jacobian` is not null) the row-major Jacobian in the parameter block.
+  void evaluate(const double* x, double* residuals, double* jacobian) const {
+    const typename Traits::Pose pose = P::pose(x);
+    const typename Traits::Rotation r = Traits::rotation(pose);
+    const Vector t = Traits::translation(pose);
+    const typename P::Jacobian to_block(x, four_dof_);
     for (std::size_t k = 0; k < beams_.size(); ++k) {
       const int i = beams_[k];
       const double w = sqrt_w_.empty() ? 1.0 : sqrt_w_[k];
-      if (!want_jacobian) {  // trial steps: the value-only lookup is about half the work
-        const Eigen::Vector2d d = model_.disparity_value(pose, c, s, scan_.points[i], nullptr);
-        residuals[2 * k] = w * d.x();
-        residuals[2 * k + 1] = w * d.y();
+      if (jacobian == nullptr) {  // trial steps: the value-only lookup is about half the work
+        const Vector d = model_.disparity_value(r, t, scan_.points[i], nullptr);
+        for (int c = 0; c < Dim; ++c) residuals[Dim * k + c] = w * d[c];
         continue;
       }
-      const BeamDisparity b = model_.disparity(pose, c, s, scan_.points[i], scan_.directions[i]);
-      residuals[2 * k] = w * b.d.x();
-      residuals[2 * k + 1] = w * b.d.y();
-      double* j = jacobians[0] + 6 * k;  // row-major 2x3
-      for (int col = 0; col < 3; ++col) {
-        j[col] = w * b.d_pose(0, col);
-        j[3 + col] = w * b.d_pose(1, col);
-      }
+      const BeamDisparityT<Dim> b = model_.disparity(r, t, scan_.points[i], scan_.directions[i]);
+      for (int c = 0; c < Dim; ++c) residuals[Dim * k + c] = w * b.d[c];
+      to_block((w * b.d_pose).eval(), jacobian + Dim * P::kAmbient * k);
     }
-    return true;
   }
 
- private:
-  const VdtSensorModel& model_;
-  const ScanPoints& scan_;
+  const VdtSensorModelT<Dim>& model_;
+  const ObservationSet<Dim>& scan_;
   std::vector<int> beams_;
   std::vector<double> sqrt_w_;
+  bool four_dof_;
+  // 3D: the last value-only evaluation with its Jacobian (Ceres evaluates one problem serially).
+  mutable std::vector<double> cache_residuals_, cache_jacobian_;
+  mutable double cache_params_[P::kAmbient] = {};
+  mutable bool cache_valid_ = false;
 };
 
-/// One beam as a residual block, for robust losses (which apply per block).
-class BeamCost final : public ceres::SizedCostFunction<2, 3> {
+/// One reading as a residual block, for robust losses (which apply per block).
+template <int Dim>
+class BeamCost final : public ceres::SizedCostFunction<Dim, Parameterization<Dim>::kAmbient> {
  public:
-  BeamCost(const VdtSensorModel& model, const Eigen::Vector2d& p, const Eigen::Vector2d& u)
-      : model_(model), p_(p), u_(u) {}
+  using P = Parameterization<Dim>;
+  using Vector = typename SpaceTraits<Dim>::Vector;
+
+  BeamCost(const VdtSensorModelT<Dim>& model, const Vector& p, const Vector& u, bool four_dof)
+      : model_(model), p_(p), u_(u), four_dof_(four_dof) {}
   bool Evaluate(double const* const* params, double* residuals, double** jacobians) const override {
-    const BeamDisparity b =
-        model_.disparity(Pose2(params[0][0], params[0][1], params[0][2]), p_, u_);
-    residuals[0] = b.d.x();
-    residuals[1] = b.d.y();
+    const BeamDisparityT<Dim> b = model_.disparity(P::pose(params[0]), p_, u_);
+    for (int c = 0; c < Dim; ++c) residuals[c] = b.d[c];
     if (jacobians != nullptr && jacobians[0] != nullptr) {
-      for (int c = 0; c < 3; ++c) {
-        jacobians[0][c] = b.d_pose(0, c);
-        jacobians[0][3 + c] = b.d_pose(1, c);
-      }
+      typename P::Jacobian(params[0], four_dof_)(b.d_pose, jacobians[0]);
     }
     return true;
   }
 
  private:
-  const VdtSensorModel& model_;
-  Eigen::Vector2d p_, u_;
+  const VdtSensorModelT<Dim>& model_;
+  Vector p_, u_;
+  bool four_dof_;
 };
 
 ceres::LossFunction* make_loss(RobustLoss loss, double scale) {
@@ -105,69 +213,56 @@ double loss_weight(RobustLoss loss, double scale, double s) {
   return 1.0;
 }
 
-}  // namespace
-
-VdtOptimizer::VdtOptimizer(const VdtMap2& map, const VdtOptimizerOptions& options)
-    : model_(map, options.sensor), options_(options) {
-  VDTNAV_CHECK(options.max_iterations >= 1, "optimizer: max_iterations must be >= 1");
-  VDTNAV_CHECK(options.gate_rounds >= 1, "optimizer: gate_rounds must be >= 1");
-  VDTNAV_CHECK(options.min_inliers >= 3, "optimizer: min_inliers must be >= 3 (3 unknowns)");
-  VDTNAV_CHECK(options.loss_scale > 0.0, "optimizer: loss_scale must be > 0");
-  VDTNAV_CHECK(options.pyramid_levels >= 0, "optimizer: pyramid_levels must be >= 0");
-  // Occupancy of the map: the cells that are their own nearest feature.
-  const auto& nearest = map.nearest_cells();
-  for (int level = options.pyramid_levels; level >= 1; --level) {
-    const int f = 1 << level;
-    const Eigen::Vector2i size = ((nearest.size().array() + f - 1) / f).max(2);
-    OccupancyGrid<2> coarse(
-        size, GridFrame<2>(map.resolution() * f, map.frame().origin(), map.frame().yaw()), 0);
-    for (std::size_t c = 0; c < nearest.num_cells(); ++c) {
-      if (nearest[c] == static_cast<std::int32_t>(c))
-        coarse(nearest.index_of(static_cast<std::ptrdiff_t>(c)) / f) = 1;
-    }
-    coarse_maps_.push_back(std::make_unique<VdtMap2>(VdtMap2::build(coarse)));
-    VdtSensorModelOptions so = options.sensor;
-    so.gate = std::max(options.sensor.gate, 4.0 * map.resolution() * f);
-    coarse_models_.emplace_back(*coarse_maps_.back(), so);
-  }
-}
-
-namespace {
-
-/// The Ceres settings of every solve here: 3 unknowns, one dense block, one thread, silent. The
-/// map stores float coefficients, so costs are known to ~1e-7 relative: ask no more.
-ceres::Solver::Options solver_options(TrustRegion trust_region, int max_iterations) {
+/// The Ceres settings of every solve here: 3 to 6 unknowns, one dense block, one thread, silent.
+/// The map stores float coefficients, so costs are known to ~1e-7 relative: ask no more.
+ceres::Solver::Options solver_options(const SolveSetup& setup) {
   ceres::Solver::Options so;
   so.linear_solver_type = ceres::DENSE_NORMAL_CHOLESKY;
   so.jacobi_scaling = false;
   so.trust_region_strategy_type =
-      trust_region == TrustRegion::kDogleg ? ceres::DOGLEG : ceres::LEVENBERG_MARQUARDT;
-  so.max_num_iterations = max_iterations;
-  so.function_tolerance = 1e-6;
+      setup.trust_region == TrustRegion::kDogleg ? ceres::DOGLEG : ceres::LEVENBERG_MARQUARDT;
+  so.max_num_iterations = setup.max_iterations;
+  so.function_tolerance = setup.function_tolerance;
   so.gradient_tolerance = 1e-10;
-  so.parameter_tolerance = 1e-6;  // relative: ~10 micrometres at 10 m from the origin
+  so.parameter_tolerance = setup.parameter_tolerance;
   so.num_threads = 1;
   so.logging_type = ceres::SILENT;
   so.minimizer_progress_to_stdout = false;
   return so;
 }
 
-/// One Ceres solve of the beams in `beams` from x (updated in place).
-ceres::Solver::Summary run_solver(const VdtSensorModel& model, const ScanPoints& scan,
-                                  const std::vector<int>& beams, RobustLoss loss, double loss_scale,
-                                  TrustRegion trust_region, int max_iterations, double* x) {
+ceres::Problem::Options problem_options() {
   ceres::Problem::Options po;
   po.disable_all_safety_checks = true;
-  ceres::Problem problem(po);
+  po.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;  // the manifolds are static
+  return po;
+}
+
+/// Puts the pose block x on the parameterization's manifold (if any).
+template <int Dim>
+void set_manifold(ceres::Problem& problem, double* x, bool four_dof) {
+  ceres::Manifold* m = Parameterization<Dim>::manifold(four_dof);
+  if (m != nullptr) problem.SetManifold(x, m);
+}
+
+/// One Ceres solve of the readings in `beams` from x (updated in place).
+template <int Dim>
+ceres::Solver::Summary run_solver(const VdtSensorModelT<Dim>& model,
+                                  const ObservationSet<Dim>& scan, const std::vector<int>& beams,
+                                  RobustLoss loss, double loss_scale, const SolveSetup& setup,
+                                  double* x) {
+  ceres::Problem problem(problem_options());
   if (loss == RobustLoss::kNone) {
-    problem.AddResidualBlock(new ScanCost(model, scan, beams), nullptr, x);
+    problem.AddResidualBlock(new ScanCost<Dim>(model, scan, beams, setup.four_dof), nullptr, x);
   } else {
     for (int i : beams) {
-      problem.AddResidualBlock(new BeamCost(model, scan.points[i], scan.directions[i]),
-                               make_loss(loss, loss_scale), x);
+      problem.AddResidualBlock(
+          new BeamCost<Dim>(model, scan.points[i], scan.directions[i], setup.four_dof),
+          make_loss(loss, loss_scale), x);
     }
   }
-  const ceres::Solver::Options so = solver_options(trust_region, max_iterations);
+  set_manifold<Dim>(problem, x, setup.four_dof);
+  const ceres::Solver::Options so = solver_options(setup);
   ceres::Solver::Summary summary;
   ceres::Solve(so, &problem, &summary);
   return summary;
@@ -176,65 +271,177 @@ ceres::Solver::Summary run_solver(const VdtSensorModel& model, const ScanPoints&
 /// Iteratively reweighted least squares with a Cauchy loss of the given scale on one residual
 /// block (fast: Ceres's per-block overhead is paid once, not per beam): each pass fixes the
 /// weights w_i = 1 / (1 + |d_i|^2 / scale^2) at the current estimate and solves.
-void solve_cauchy_irls(const VdtSensorModel& model, const ScanPoints& scan,
-                       const std::vector<int>& beams, double scale, TrustRegion trust_region,
-                       int max_iterations, int passes, double* x) {
+template <int Dim>
+void solve_cauchy_irls(const VdtSensorModelT<Dim>& model, const ObservationSet<Dim>& scan,
+                       const std::vector<int>& beams, double scale, const SolveSetup& setup,
+                       int passes, double* x) {
+  using Traits = PoseTraits<Dim>;
   std::vector<double> sqrt_w(beams.size());
   for (int pass = 0; pass < passes; ++pass) {
-    const Pose2 at(x[0], x[1], x[2]);
+    const typename Traits::Pose at = Parameterization<Dim>::pose(x);
+    const typename Traits::Rotation r = Traits::rotation(at);
+    const typename Traits::Vector t = Traits::translation(at);
     for (std::size_t k = 0; k < beams.size(); ++k) {
-      const int i = beams[k];
-      const double s2 = model.disparity(at, scan.points[i], scan.directions[i]).d.squaredNorm();
+      const double s2 = model.disparity_value(r, t, scan.points[beams[k]], nullptr).squaredNorm();
       sqrt_w[k] = std::sqrt(loss_weight(RobustLoss::kCauchy, scale, s2));
     }
-    ceres::Problem::Options po;
-    po.disable_all_safety_checks = true;
-    ceres::Problem problem(po);
-    problem.AddResidualBlock(new ScanCost(model, scan, beams, sqrt_w), nullptr, x);
-    const ceres::Solver::Options so = solver_options(trust_region, max_iterations);
+    ceres::Problem problem(problem_options());
+    problem.AddResidualBlock(new ScanCost<Dim>(model, scan, beams, setup.four_dof, sqrt_w), nullptr,
+                             x);
+    set_manifold<Dim>(problem, x, setup.four_dof);
+    const ceres::Solver::Options so = solver_options(setup);
     ceres::Solver::Summary summary;
     ceres::Solve(so, &problem, &summary);
   }
 }
 
+/// Spreads the low 21 bits of v to every third bit (a Morton code component).
+std::uint64_t spread_bits3(std::uint64_t v) {
+  v &= 0x1fffff;
+  v = (v | v << 32) & 0x1f00000000ffffULL;
+  v = (v | v << 16) & 0x1f0000ff0000ffULL;
+  v = (v | v << 8) & 0x100f00f00f00f00fULL;
+  v = (v | v << 4) & 0x10c30c30c30c30c3ULL;
+  v = (v | v << 2) & 0x1249249249249249ULL;
+  return v;
+}
+
+/// The order in which the readings are looked up. 2D: as given (a scan is already coherent and
+/// its lookups compute-bound). 3D: along a Z-order curve through the map cells of the endpoints
+/// at `pose`, so that consecutive lookups share the cache lines of their 4 x 4 x 4 spline
+/// support; a 3D lookup is memory-bound and a pan-tilt sweep jumps between surfaces.
+template <int Dim>
+std::vector<int> lookup_order(const VdtMap<Dim>& map, const ObservationSet<Dim>& scan,
+                              const typename PoseTraits<Dim>::Pose& pose) {
+  using Traits = PoseTraits<Dim>;
+  std::vector<int> order(scan.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = static_cast<int>(i);
+  if constexpr (Dim == 3) {
+    const typename Traits::Rotation r = Traits::rotation(pose);
+    const typename Traits::Vector t = Traits::translation(pose);
+    std::vector<std::uint64_t> key(scan.size());
+    for (std::size_t i = 0; i < scan.size(); ++i) {
+      const Eigen::Vector3i c = map.frame().cell_of(r * scan.points[i] + t).cwiseMax(0);
+      key[i] = spread_bits3(static_cast<std::uint64_t>(c.x())) |
+               spread_bits3(static_cast<std::uint64_t>(c.y())) << 1 |
+               spread_bits3(static_cast<std::uint64_t>(c.z())) << 2;
+    }
+    std::sort(order.begin(), order.end(), [&](int a, int b) { return key[a] < key[b]; });
+  }
+  return order;
+}
+
 }  // namespace
 
-LocalizationResult VdtOptimizer::solve(const ScanPoints& scan, const Pose2& guess) const {
-  LocalizationResult result;
+template <int Dim>
+VdtOptimizerT<Dim>::VdtOptimizerT(const Map& map, const VdtOptimizerOptions& options)
+    : model_(map, options.sensor), options_(options) {
+  VDTNAV_CHECK(options.max_iterations >= 1, "optimizer: max_iterations must be >= 1");
+  VDTNAV_CHECK(options.gate_rounds >= 1, "optimizer: gate_rounds must be >= 1");
+  VDTNAV_CHECK(options.min_inliers >= 3, "optimizer: min_inliers must be >= 3");
+  VDTNAV_CHECK(options.loss_scale > 0.0, "optimizer: loss_scale must be > 0");
+  VDTNAV_CHECK(options.pyramid_levels >= -1, "optimizer: pyramid_levels must be >= -1");
+  VDTNAV_CHECK(std::isfinite(options.coarse_threshold), "optimizer: coarse_threshold not finite");
+  // Per-dimension defaults (see VdtOptimizerOptions).
+  if (options_.pyramid_levels < 0) options_.pyramid_levels = Dim == 2 ? 2 : 3;
+  if (options_.coarse_threshold < 0.0) options_.coarse_threshold = Dim == 2 ? 0.1 : 0.0;
+  if constexpr (Dim == 2) options_.four_dof = false;  // a 3D option
+  // Occupancy of the map: the cells that are their own nearest feature.
+  using Index = typename SpaceTraits<Dim>::Index;
+  const auto& nearest = map.nearest_cells();
+  for (int level = options_.pyramid_levels; level >= 1; --level) {
+    const int f = 1 << level;
+    const Index size = ((nearest.size().array() + f - 1) / f).max(2);
+    OccupancyGrid<Dim> coarse(
+        size, GridFrame<Dim>(map.resolution() * f, map.frame().origin(), map.frame().yaw()), 0);
+    for (std::size_t c = 0; c < nearest.num_cells(); ++c) {
+      if (nearest[c] == static_cast<std::int32_t>(c))
+        coarse(nearest.index_of(static_cast<std::ptrdiff_t>(c)) / f) = 1;
+    }
+    coarse_maps_.push_back(std::make_unique<Map>(Map::build(coarse)));
+    VdtSensorModelOptions so = options.sensor;
+    so.gate = std::max(options.sensor.gate, 4.0 * map.resolution() * f);
+    coarse_models_.emplace_back(*coarse_maps_.back(), so);
+  }
+}
+
+template <int Dim>
+bool VdtOptimizerT<Dim>::is_free(int k) const noexcept {
+  return !(Dim == 3 && options_.four_dof && (k == 3 || k == 4));
+}
+
+template <int Dim>
+typename VdtOptimizerT<Dim>::Result VdtOptimizerT<Dim>::solve(const Observations& scan,
+                                                              const Pose& guess) const {
+  using P = Parameterization<Dim>;
+  using Vector = typename Traits::Vector;
+  using Rotation = typename Traits::Rotation;
+  Result result;
   result.pose = guess;
   result.dropped = static_cast<int>(scan.dropped_not_finite + scan.dropped_out_of_range);
-  double x[3] = {guess[0], guess[1], guess[2]};
+  double x[P::kAmbient];
+  P::set(guess, x);
   const double alpha = options_.sensor.gate;
+  const SolveSetup setup{options_.trust_region, options_.max_iterations, options_.four_dof};
+  // IRLS passes per level of the coarse alignment: in 3D one pass per level already lands in the
+  // basin of the fine solve, and each pass is a full solve over thousands of 3D lookups.
+  constexpr int kIrlsPasses = Dim == 2 ? 3 : 1;
+  // The coarse solves only have to land in the basin of the next level: in 3D, where an iteration
+  // costs milliseconds, they stop early (a few iterations, ~0.5 mm at 5 m from the origin).
+  SolveSetup coarse_setup = setup;
+  if constexpr (Dim == 3) {
+    coarse_setup.max_iterations = std::min(setup.max_iterations, kCoarseIterations3d);
+    coarse_setup.function_tolerance = 1e-4;
+    coarse_setup.parameter_tolerance = 1e-4;
+  }
+  const std::vector<int> order = lookup_order<Dim>(model_.map(), scan, guess);
 
-  // Coarse alignment, only when the guess is poor (median disparity > 10 cm, e.g. after a kidnap
-  // or a bad odometry step): a wide gate and a Cauchy loss first pull the scan into the basin of
-  // the right walls without letting far, wrongly associated beams dominate.
-  {
+  // Coarse alignment, only when the guess is poor (median disparity > coarse_threshold, 10 cm in
+  // 2D, e.g. after a kidnap or a bad odometry step; always in 3D): a wide gate and a Cauchy loss
+  // first pull the readings into the basin of the right surfaces without letting far, wrongly
+  // associated ones dominate. In 2D a Cauchy pass on the fine map follows; in 3D the coarse pass
+  // already lands in the basin of the fine solve (scenarios A and B of Table 3.4), which then
+  // needs fewer fine lookups than a fine Cauchy pass would.
+  constexpr bool kFineIrls = Dim == 2;
+  const auto coarse_to_fine = [&](const std::vector<int>& wide) {
+    // 3D: the coarse levels use an even subset of at most kCoarsePoints3d readings (every s-th
+    // along the Z-order curve), plenty to find the basin at their resolution.
+    const std::size_t stride =
+        Dim == 2 ? 1 : std::max<std::size_t>(1, order.size() / kCoarsePoints3d);
+    for (const SensorModel& coarse : coarse_models_) {
+      std::vector<int> beams;
+      const Pose at = P::pose(x);
+      const Rotation ra = Traits::rotation(at);
+      const Vector ta = Traits::translation(at);
+      for (std::size_t k = 0; k < order.size(); k += stride) {
+        const int i = order[k];
+        bool in = false;
+        (void)coarse.disparity_value(ra, ta, scan.points[i], &in);
+        if (in) beams.push_back(i);
+      }
+      if (beams.size() < static_cast<std::size_t>(options_.min_inliers)) continue;
+      solve_cauchy_irls(coarse, scan, beams, coarse.options().gate / 4, coarse_setup, kIrlsPasses,
+                        x);
+    }
+    if (kFineIrls) solve_cauchy_irls(model_, scan, wide, 0.1, setup, kIrlsPasses, x);
+  };
+  if (!kFineIrls && options_.coarse_threshold <= 0.0) {
+    coarse_to_fine({});  // always: no need for the median
+  } else {
     std::vector<double> norms;
     std::vector<int> wide;
-    for (std::size_t i = 0; i < scan.size(); ++i) {
-      const BeamDisparity b = model_.disparity(guess, scan.points[i], scan.directions[i]);
-      if (!b.inside) continue;
-      norms.push_back(b.d.norm());
-      if (b.d.norm() < std::max(1.0, 2.0 * alpha)) wide.push_back(static_cast<int>(i));
+    const Rotation r = Traits::rotation(guess);
+    const Vector t = Traits::translation(guess);
+    for (const int i : order) {
+      bool inside = false;
+      const double n = model_.disparity_value(r, t, scan.points[i], nullptr, &inside).norm();
+      if (!inside) continue;
+      norms.push_back(n);
+      if (n < std::max(1.0, 2.0 * alpha)) wide.push_back(i);
     }
     if (norms.size() >= static_cast<std::size_t>(options_.min_inliers)) {
       std::nth_element(norms.begin(), norms.begin() + norms.size() / 2, norms.end());
-      if (norms[norms.size() / 2] > 0.1) {
-        for (const VdtSensorModel& coarse : coarse_models_) {
-          std::vector<int> beams;
-          const Pose2 at(x[0], x[1], x[2]);
-          for (std::size_t i = 0; i < scan.size(); ++i) {
-            if (coarse.disparity(at, scan.points[i], scan.directions[i]).inlier)
-              beams.push_back(static_cast<int>(i));
-          }
-          if (beams.size() < static_cast<std::size_t>(options_.min_inliers)) continue;
-          solve_cauchy_irls(coarse, scan, beams, coarse.options().gate / 4, options_.trust_region,
-                            options_.max_iterations, 3, x);
-        }
-        solve_cauchy_irls(model_, scan, wide, 0.1, options_.trust_region, options_.max_iterations,
-                          3, x);
-      }
+      if (norms[norms.size() / 2] > options_.coarse_threshold) coarse_to_fine(wide);
     }
   }
 
@@ -242,16 +449,17 @@ LocalizationResult VdtOptimizer::solve(const ScanPoints& scan, const Pose2& gues
   bool converged = false;
   for (int round = 0; round < options_.gate_rounds; ++round) {
     // Gate (3.3) at the current estimate.
-    const Pose2 at(x[0], x[1], x[2]);
+    const Pose at = P::pose(x);
+    const Rotation r = Traits::rotation(at);
+    const Vector t = Traits::translation(at);
     std::vector<int> beams;
     int changed = 0;
-    const double c = std::cos(at[2]), s = std::sin(at[2]);
-    for (std::size_t i = 0; i < scan.size(); ++i) {
+    for (const int i : order) {
       bool in = false;
-      (void)model_.disparity_value(at, c, s, scan.points[i], &in);
+      (void)model_.disparity_value(r, t, scan.points[i], &in);
       changed += (in != (inlier[i] != 0)) ? 1 : 0;
       inlier[i] = in ? 1 : 0;
-      if (in) beams.push_back(static_cast<int>(i));
+      if (in) beams.push_back(i);
     }
     // Solve again only if the gate changed its mind about more than 1 % of the beams.
     if (round > 0 && changed * 100 <= static_cast<int>(beams.size())) break;
@@ -265,8 +473,7 @@ LocalizationResult VdtOptimizer::solve(const ScanPoints& scan, const Pose2& gues
       return result;
     }
     const ceres::Solver::Summary summary =
-        run_solver(model_, scan, beams, options_.loss, options_.loss_scale, options_.trust_region,
-                   options_.max_iterations, x);
+        run_solver(model_, scan, beams, options_.loss, options_.loss_scale, setup, x);
     result.iterations += static_cast<int>(summary.iterations.size());
     result.final_cost = 2.0 * summary.final_cost;  // Ceres reports sum/2: d_VCD = sum |d|^2
     if (summary.termination_type == ceres::FAILURE || !std::isfinite(summary.final_cost)) {
@@ -276,75 +483,134 @@ LocalizationResult VdtOptimizer::solve(const ScanPoints& scan, const Pose2& gues
     }
     converged = summary.termination_type == ceres::CONVERGENCE;
   }
-  result.pose = Pose2(x[0], x[1], wrap_angle(x[2]));
+  result.pose = P::result(x, guess, options_.four_dof);
   result.status = converged ? LocalizationStatus::kConverged : LocalizationStatus::kNotConverged;
   // The covariance is reported whenever the Hessian at the estimate is positive definite, also
   // when Ceres stopped at its iteration limit (the status says so); otherwise it is not a minimum.
-  result.has_covariance = covariance(scan, result.pose, inlier, &result.covariance);
+  result.has_covariance = covariance(scan, result.pose, inlier, order, &result.covariance);
   if (!result.has_covariance) result.status = LocalizationStatus::kNotConverged;
   return result;
 }
 
-bool VdtOptimizer::covariance(const ScanPoints& scan, const Pose2& pose,
-                              const std::vector<char>& inliers, Eigen::Matrix3d* cov) const {
+template <int Dim>
+bool VdtOptimizerT<Dim>::covariance(const Observations& scan, const Pose& pose,
+                                    const std::vector<char>& inliers, Covariance* cov) const {
+  return covariance(scan, pose, inliers, lookup_order<Dim>(model_.map(), scan, pose), cov);
+}
+
+template <int Dim>
+bool VdtOptimizerT<Dim>::covariance(const Observations& scan, const Pose& pose,
+                                    const std::vector<char>& inliers, const std::vector<int>& order,
+                                    Covariance* cov) const {
+  using Vector = typename Traits::Vector;
+  using Rotation = typename Traits::Rotation;
+  constexpr int kDoF = Traits::kDoF;
   const double s2 = scan.sigma_range * scan.sigma_range;
   const double m2 = model_.map_sigma() * model_.map_sigma();
-  Eigen::Matrix3d h = Eigen::Matrix3d::Zero(), middle = Eigen::Matrix3d::Zero();
-  for (std::size_t i = 0; i < scan.size(); ++i) {
+  const Rotation r = Traits::rotation(pose);
+  const Vector t = Traits::translation(pose);
+  Covariance h = Covariance::Zero(), middle = Covariance::Zero();
+  for (const int i : order) {
     if (!inliers[i]) continue;
     if (options_.covariance == CovarianceMethod::kImplicitFunction) {
-      BeamCurvature c;
-      const BeamDisparity b = model_.disparity(pose, scan.points[i], scan.directions[i], &c);
+      BeamCurvatureT<Dim> c;
+      const BeamDisparityT<Dim> b = model_.disparity(r, t, scan.points[i], scan.directions[i], &c);
       const double w = loss_weight(options_.loss, options_.loss_scale, b.d.squaredNorm());
-      h += w * c.hessian;                                        // (3.6), of d_VCD / 2
-      middle += (w * w * s2) * c.cross * c.cross.transpose();    // range noise via (3.5)
-      middle += (w * w * m2) * b.d_pose.transpose() * b.d_pose;  // map-noise floor
+      h += w * c.hessian;                                                  // (3.6), of d_VCD / 2
+      middle.noalias() += (w * w * s2) * c.cross * c.cross.transpose();    // range noise via (3.5)
+      middle.noalias() += (w * w * m2) * b.d_pose.transpose() * b.d_pose;  // map-noise floor
     } else {
-      const BeamDisparity b = model_.disparity(pose, scan.points[i], scan.directions[i]);
+      const BeamDisparityT<Dim> b = model_.disparity(r, t, scan.points[i], scan.directions[i]);
       const double w = loss_weight(options_.loss, options_.loss_scale, b.d.squaredNorm());
-      h += w * b.d_pose.transpose() * b.d_pose;
-      middle += (w * w) * b.d_pose.transpose() * model_.disparity_covariance(b, scan.sigma_range) *
-                b.d_pose;
+      h.noalias() += w * b.d_pose.transpose() * b.d_pose;
+      middle.noalias() += (w * w) * b.d_pose.transpose() *
+                          model_.disparity_covariance(b, scan.sigma_range) * b.d_pose;
     }
   }
-  const Eigen::LLT<Eigen::Matrix3d> llt(h);
+  // Held components (4-DOF mode): the estimate does not move along them, so they drop out of H
+  // and of the noise term; the unit diagonal keeps H invertible and their rows of cov zero.
+  int free = 0;
+  for (int k = 0; k < kDoF; ++k) {
+    if (is_free(k)) {
+      ++free;
+      continue;
+    }
+    h.row(k).setZero();
+    h.col(k).setZero();
+    h(k, k) = 1.0;
+    middle.row(k).setZero();
+    middle.col(k).setZero();
+  }
+  const Eigen::LLT<Covariance> llt(h);
   if (llt.info() != Eigen::Success) return false;
-  const Eigen::Matrix3d h_inv = llt.solve(Eigen::Matrix3d::Identity());
+  const Covariance h_inv = llt.solve(Covariance::Identity());
   *cov = h_inv * middle * h_inv;  // (3.4) with J = -H^{-1} d^2(d_VCD/2)/dX dr
   *cov = 0.5 * (*cov + cov->transpose());
   if (options_.variance_factor && m2 > 0.0) {
     // A posteriori variance factor of the weighted residuals (chi^2 / degrees of freedom).
     double chi2 = 0.0;
     int n = 0;
-    const double c = std::cos(pose[2]), s = std::sin(pose[2]);
-    for (std::size_t i = 0; i < scan.size(); ++i) {
+    for (const int i : order) {
       if (!inliers[i]) continue;
-      const BeamDisparity b = model_.disparity(pose, c, s, scan.points[i], scan.directions[i]);
+      const BeamDisparityT<Dim> b = model_.disparity(r, t, scan.points[i], scan.directions[i]);
       chi2 += b.d.dot(model_.disparity_covariance(b, scan.sigma_range).ldlt().solve(b.d));
       ++n;
     }
-    const double factor = n > 2 ? chi2 / (2.0 * n - 3.0) : 1.0;
+    const int dof = Dim * n - free;
+    const double factor = dof > 0 ? chi2 / dof : 1.0;
     if (factor > 1.0) *cov *= factor;
   }
   return cov->allFinite();
 }
+
+template class VdtOptimizerT<2>;
+template class VdtOptimizerT<3>;
 
 VdtOptimizationLocalizer::VdtOptimizationLocalizer(const VdtMap2& map,
                                                    const VdtOptimizerOptions& options,
                                                    std::string name)
     : optimizer_(map, options), name_(std::move(name)) {}
 
-void VdtOptimizationLocalizer::reset(const Pose2& pose, const Eigen::Matrix3d& /*covariance*/) {
+void VdtOptimizationLocalizer::reset(const Pose2& pose, const Eigen::Matrix3d& covariance) {
   pose_ = pose;
+  uncertainty_ = covariance;
 }
 
 LocalizationResult VdtOptimizationLocalizer::update(const OdometryStep& odometry,
                                                     const LaserScan& scan) {
-  const Pose2 guess = compose(pose_, odometry.delta);  // UPDATEGUESS
-  LocalizationResult r = optimizer_.solve(scan_points(scan), guess);
-  if (r.status == LocalizationStatus::kConverged || r.status == LocalizationStatus::kNotConverged) {
+  const GuessSearchOptions& so = optimizer_.options().search;
+  Pose2 guess = pose_;  // UPDATEGUESS: X (+) odometry, its uncertainty propagated alongside
+  ekf_predict(MotionModelKind::kOdometryIncrement, so.odometry_noise, odometry, guess,
+              uncertainty_);
+  const ScanPoints pts = scan_points(scan);
+  const auto usable = [](const LocalizationResult& x) {
+    return x.status == LocalizationStatus::kConverged ||
+           x.status == LocalizationStatus::kNotConverged;
+  };
+  LocalizationResult r = optimizer_.solve(pts, guess);
+  double explained =
+      usable(r) ? explained_fraction(optimizer_.sensor_model(), pts, r.pose, so.explained_distance)
+                : 0.0;
+  if (so.enabled && explained < so.search_below) {
+    // A poor fit: solve again from the best pose of a window around the guess, keep the better.
+    const Pose2 start = search_guess(optimizer_.sensor_model(), pts, guess, so, &uncertainty_);
+    LocalizationResult r2 = optimizer_.solve(pts, start);
+    const double e2 = usable(r2) ? explained_fraction(optimizer_.sensor_model(), pts, r2.pose,
+                                                      so.explained_distance)
+                                 : 0.0;
+    r2.iterations += r.iterations;
+    if (e2 > explained) {
+      r = r2;
+      explained = e2;
+    }
+  }
+  if (usable(r) && (!so.enabled || explained >= so.accept_fraction)) {
     pose_ = r.pose;
+    uncertainty_ = r.has_covariance ? r.covariance : Eigen::Matrix3d::Zero();
   } else {
+    // Nothing usable, or the map does not explain the scan: keep the odometry guess.
+    if (usable(r)) r.status = LocalizationStatus::kNotConverged;
+    r.has_covariance = false;
     pose_ = guess;
     r.pose = guess;
   }

@@ -1,22 +1,25 @@
 #include "vdtnav/sensor/vdt_sensor_model.hpp"
 
+#include <array>
 #include <cmath>
 
 #include "vdtnav/core/error.hpp"
 
 namespace vdtnav {
 
-VdtSensorModel::VdtSensorModel(const VdtMap2& map, const VdtSensorModelOptions& options)
+template <int Dim>
+VdtSensorModelT<Dim>::VdtSensorModelT(const Map& map, const VdtSensorModelOptions& options)
     : map_(&map), options_(options) {
   VDTNAV_CHECK(std::isfinite(options.gate) && options.gate >= 0.0,
                "sensor model: gate must be >= 0");
   map_sigma_ = options.map_sigma >= 0.0 ? options.map_sigma : map.resolution() / std::sqrt(12.0);
 }
 
-bool VdtSensorModel::passes_gate(const Eigen::Vector2d& d) const noexcept {
+template <int Dim>
+bool VdtSensorModelT<Dim>::passes_gate(const Vector& d) const noexcept {
   switch (options_.gate_mode) {
     case GateMode::kComponents:
-      return std::abs(d.x()) < options_.gate && std::abs(d.y()) < options_.gate;
+      return (d.array().abs() < options_.gate).all();
     case GateMode::kNorm:
       return d.squaredNorm() < options_.gate * options_.gate;
     case GateMode::kNone:
@@ -25,28 +28,18 @@ bool VdtSensorModel::passes_gate(const Eigen::Vector2d& d) const noexcept {
   return true;
 }
 
-BeamDisparity VdtSensorModel::disparity(const Pose2& pose, const Eigen::Vector2d& p,
-                                        const Eigen::Vector2d& u) const {
-  return disparity(pose, p, u, nullptr);
-}
+template <int Dim>
+typename VdtSensorModelT<Dim>::Disparity VdtSensorModelT<Dim>::disparity(
+    const Rotation& r, const Vector& t, const Vector& p, const Vector& u,
+    Curvature* curvature) const {
+  Disparity b;
+  const Vector rp = r * p;  // R p
+  const Vector ru = r * u;  // R u = dq/dr
+  const Vector q = rp + t;
 
-BeamDisparity VdtSensorModel::disparity(const Pose2& pose, const Eigen::Vector2d& p,
-                                        const Eigen::Vector2d& u, BeamCurvature* curvature) const {
-  return disparity(pose, std::cos(pose[2]), std::sin(pose[2]), p, u, curvature);
-}
-
-BeamDisparity VdtSensorModel::disparity(const Pose2& pose, double c, double s,
-                                        const Eigen::Vector2d& p, const Eigen::Vector2d& u,
-                                        BeamCurvature* curvature) const {
-  BeamDisparity b;
-  const Eigen::Vector2d rp(c * p.x() - s * p.y(), s * p.x() + c * p.y());  // R p
-  const Eigen::Vector2d ru(c * u.x() - s * u.y(), s * u.x() + c * u.y());  // R u = dq/dr
-  const Eigen::Vector2d q(pose[0] + rp.x(), pose[1] + rp.y());
-  const Eigen::Vector2d rp_perp(-rp.y(), rp.x());  // R' p = dq/dphi
-  const Eigen::Vector2d ru_perp(-ru.y(), ru.x());  // R' u = d^2 q / dphi dr
-
-  Eigen::Matrix2d jac;
-  std::array<Eigen::Matrix2d, 2> hess{Eigen::Matrix2d::Zero(), Eigen::Matrix2d::Zero()};
+  Matrix jac;
+  std::array<Matrix, Dim> hess;
+  for (Matrix& h : hess) h.setZero();
   if (options_.residual == ResidualMode::kNearestPoint) {
     const auto smp = map_->nearest_point_query(q);
     b.d = smp.value;
@@ -65,37 +58,35 @@ BeamDisparity VdtSensorModel::disparity(const Pose2& pose, double c, double s,
     b.inside = smp.inside;
   }
   b.inlier = b.inside && passes_gate(b.d);
-  // dq/dX = [I | R'p]
-  b.d_pose.leftCols<2>() = jac;
-  b.d_pose.col(2) = jac * rp_perp;
+  b.d_pose = Traits::pose_jacobian(jac, rp);  // J dq/dX
   b.d_range = jac * ru;
 
   if (curvature != nullptr) {
-    // |d|^2 / 2: Hessian = J^T J + sum_c d_c d^2 d_c/dX^2 (Gauss-Newton term + curvature term).
-    Eigen::Matrix<double, 2, 3> dq_dx;
-    dq_dx << 1.0, 0.0, rp_perp.x(), 0.0, 1.0, rp_perp.y();
-    curvature->hessian = b.d_pose.transpose() * b.d_pose;
-    curvature->cross = b.d_pose.transpose() * b.d_range;
-    for (int comp = 0; comp < 2; ++comp) {
-      const double dc = b.d[comp];
-      // d^2 d_c/dX^2 = Q^T H_c Q + (grad_c . d^2q/dphi^2) e_phi e_phi^T, d^2q/dphi^2 = -R p
-      Eigen::Matrix3d h2 = dq_dx.transpose() * hess[comp] * dq_dx;
-      h2(2, 2) += jac.row(comp).dot(-rp);
-      // d^2 d_c/dX dr = Q^T H_c (R u) + (grad_c . R'u) e_phi
-      Eigen::Vector3d x2 = dq_dx.transpose() * (hess[comp] * ru);
-      x2[2] += jac.row(comp).dot(ru_perp);
-      curvature->hessian += dc * h2;
-      curvature->cross += dc * x2;
-    }
+    // |d|^2 / 2 with d = DT_v(q(X, r)):
+    //   d^2/dX^2  = D^T D + Q^T (sum_c d_c H_c) Q + sum_k g_k d^2 q_k/dX^2
+    //   d^2/dXdr  = D^T (J R u) + Q^T (sum_c d_c H_c) R u + (d Q/dr)^T g
+    // with D = dd/dX, Q = dq/dX, H_c the Hessian of component c, g = J^T d the gradient of |d|^2/2
+    // with respect to q (Gauss-Newton term + map curvature + curvature of the pose action).
+    Matrix hd = b.d[0] * hess[0];
+    for (int c = 1; c < Dim; ++c) hd += b.d[c] * hess[c];
+    const Vector g = jac.transpose() * b.d;
+    const auto dq_dx = Traits::pose_jacobian(Matrix::Identity(), rp);
+    curvature->hessian.noalias() = b.d_pose.transpose() * b.d_pose;
+    curvature->hessian.noalias() += dq_dx.transpose() * hd * dq_dx;
+    curvature->hessian += Traits::point_hessian(g, rp);
+    curvature->cross.noalias() = b.d_pose.transpose() * b.d_range;
+    curvature->cross.noalias() += dq_dx.transpose() * (hd * ru);
+    curvature->cross.noalias() += Traits::rotation_jacobian(Matrix::Identity(), ru).transpose() * g;
   }
   return b;
 }
 
-Eigen::Vector2d VdtSensorModel::disparity_value(const Pose2& pose, double c, double s,
-                                                const Eigen::Vector2d& p, bool* inlier) const {
-  const Eigen::Vector2d q(pose[0] + c * p.x() - s * p.y(), pose[1] + s * p.x() + c * p.y());
+template <int Dim>
+typename VdtSensorModelT<Dim>::Vector VdtSensorModelT<Dim>::disparity_value(
+    const Rotation& r, const Vector& t, const Vector& p, bool* inlier, bool* in_map) const {
+  const Vector q = r * p + t;
   bool inside = false;
-  Eigen::Vector2d d;
+  Vector d;
   if (options_.residual == ResidualMode::kNearestPoint) {
     const auto smp = map_->nearest_point_query(q);
     d = smp.value;
@@ -104,15 +95,17 @@ Eigen::Vector2d VdtSensorModel::disparity_value(const Pose2& pose, double c, dou
     d = map_->value(q, &inside);
   }
   if (inlier != nullptr) *inlier = inside && passes_gate(d);
+  if (in_map != nullptr) *in_map = inside;
   return d;
 }
 
-Eigen::Matrix2d VdtSensorModel::disparity_covariance(const BeamDisparity& b,
-                                                     double sigma_range) const {
+template <int Dim>
+typename VdtSensorModelT<Dim>::Matrix VdtSensorModelT<Dim>::disparity_covariance(
+    const Disparity& b, double sigma_range) const {
   const double s2 = sigma_range * sigma_range;
-  Eigen::Matrix2d cov;
+  Matrix cov;
   if (options_.covariance == DisparityCovariance::kExactRankOne) {
-    cov = s2 * b.d_range * b.d_range.transpose();  // both components share one range error
+    cov = s2 * b.d_range * b.d_range.transpose();  // every component shares one range error
   } else {
     cov = (s2 * b.d_range.array().square()).matrix().asDiagonal();  // (2.13)-(2.15)
   }
@@ -120,19 +113,26 @@ Eigen::Matrix2d VdtSensorModel::disparity_covariance(const BeamDisparity& b,
   return cov;
 }
 
-double VdtSensorModel::vector_chamfer_distance(const Pose2& pose, const ScanPoints& scan,
-                                               int* inliers) const {
+template <int Dim>
+double VdtSensorModelT<Dim>::vector_chamfer_distance(const Pose& pose,
+                                                     const Observations& observations,
+                                                     int* inliers) const {
   double vcd = 0.0;
   int n = 0;
-  const double c = std::cos(pose[2]), s = std::sin(pose[2]);
-  for (std::size_t i = 0; i < scan.size(); ++i) {
-    const BeamDisparity b = disparity(pose, c, s, scan.points[i], scan.directions[i]);
-    if (!b.inlier) continue;
-    vcd += b.d.squaredNorm();  // (2.17)
+  const Rotation r = Traits::rotation(pose);
+  const Vector t = Traits::translation(pose);
+  for (std::size_t i = 0; i < observations.size(); ++i) {
+    bool inlier = false;
+    const Vector d = disparity_value(r, t, observations.points[i], &inlier);
+    if (!inlier) continue;
+    vcd += d.squaredNorm();  // (2.17)
     ++n;
   }
   if (inliers != nullptr) *inliers = n;
   return vcd;
 }
+
+template class VdtSensorModelT<2>;
+template class VdtSensorModelT<3>;
 
 }  // namespace vdtnav

@@ -1,4 +1,12 @@
-# cmake -DBUILD_DIR=... -DWORK_DIR=... -DCONSUMER_DIR=... -P install_and_consume.cmake
+# cmake -DBUILD_DIR=... -DWORK_DIR=... -DCONSUMER_DIR=... [-DCONSUME_PCL=ON] [-DCONSUME_OCTOMAP=ON]
+#       -P install_and_consume.cmake
+# CONSUME_<FRONTEND>: also build and run the consumer of that front end (only when it was built).
+if(NOT DEFINED CONSUME_PCL)
+  set(CONSUME_PCL OFF)
+endif()
+if(NOT DEFINED CONSUME_OCTOMAP)
+  set(CONSUME_OCTOMAP OFF)
+endif()
 file(REMOVE_RECURSE ${WORK_DIR})
 set(prefix ${WORK_DIR}/prefix)
 function(run)
@@ -9,11 +17,18 @@ function(run)
 endfunction()
 run(${CMAKE_COMMAND} --install ${BUILD_DIR} --prefix ${prefix})
 run(${CMAKE_COMMAND} -S ${CONSUMER_DIR} -B ${WORK_DIR}/consumer -DCMAKE_PREFIX_PATH=${prefix}
-    -DCMAKE_BUILD_TYPE=${CMAKE_BUILD_TYPE})
+    -DCMAKE_BUILD_TYPE=${CMAKE_BUILD_TYPE}
+    -DVDTNAV_CONSUME_PCL=${CONSUME_PCL} -DVDTNAV_CONSUME_OCTOMAP=${CONSUME_OCTOMAP})
 run(${CMAKE_COMMAND} --build ${WORK_DIR}/consumer)
 run(${WORK_DIR}/consumer/consumer_core)
 run(${WORK_DIR}/consumer/consumer_io ${WORK_DIR}/roundtrip.vdtmap)
 run(${WORK_DIR}/consumer/consumer_localization)
+if(CONSUME_PCL)
+  run(${WORK_DIR}/consumer/consumer_pcl ${WORK_DIR}/consumer_cloud.pcd)
+endif()
+if(CONSUME_OCTOMAP)
+  run(${WORK_DIR}/consumer/consumer_octomap ${WORK_DIR}/consumer_tree.bt)
+endif()
 # A component that does not exist must make a REQUIRED find fail.
 execute_process(COMMAND ${CMAKE_COMMAND} -S ${CONSUMER_DIR} -B ${WORK_DIR}/consumer_bad
                 -DCMAKE_PREFIX_PATH=${prefix} -DASK_FOR_MISSING_COMPONENT=ON

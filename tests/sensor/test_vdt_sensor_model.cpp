@@ -1,5 +1,5 @@
-// The VDT sensor model: scan conversion, derivatives against finite differences, the disparity
-// covariance against Monte Carlo, and the gate.
+// The VDT sensor model: scan conversion, derivatives against finite differences (2D and 3D), the
+// disparity covariance against Monte Carlo, and the gate.
 #include "vdtnav/sensor/vdt_sensor_model.hpp"
 
 #include <gtest/gtest.h>
@@ -7,6 +7,8 @@
 #include <cmath>
 #include <limits>
 #include <random>
+#include <type_traits>
+#include <vector>
 
 #include <Eigen/LU>
 
@@ -54,63 +56,168 @@ class SensorModelTest : public ::testing::Test {
  protected:
   OccupancyGrid<2> occ_ = room();
   VdtMap2 map_ = VdtMap2::build(occ_);
+};
+
+// ---------------------------------------------------------------- derivatives, 2D and 3D
+
+/// A 3 m x 2.5 m x 2 m room (0.05 m cells) with a box and a shelf in it.
+OccupancyGrid<3> room3() {
+  OccupancyGrid<3> occ(Eigen::Vector3i(64, 54, 44),
+                       GridFrame<3>(0.05, Eigen::Vector3d(-0.1, -0.1, -0.1)), 0);
+  for (int k = 0; k < 44; ++k)
+    for (int j = 0; j < 54; ++j)
+      for (int i = 0; i < 64; ++i) {
+        const bool wall = i == 1 || i == 62 || j == 1 || j == 52 || k == 1 || k == 42;
+        const bool box = i >= 30 && i <= 40 && j >= 20 && j <= 28 && k <= 16;
+        const bool shelf = i >= 8 && i <= 20 && j >= 40 && k == 26;
+        occ(Eigen::Vector3i(i, j, k)) = (wall || box || shelf) ? 1 : 0;
+      }
+  return occ;
+}
+
+/// Per-dimension fixture facts: the map, random poses inside it, and random beam directions.
+template <int Dim>
+struct DimFixture;
+
+template <>
+struct DimFixture<2> {
+  static const VdtMap2& map() {
+    static const VdtMap2 m = VdtMap2::build(room());
+    return m;
+  }
+  static Pose2 pose(std::mt19937& rng) {
+    std::uniform_real_distribution<double> ux(0.0, 4.5), uy(0.3, 3.0), ua(-3.1, 3.1);
+    return Pose2(ux(rng), uy(rng), ua(rng));
+  }
+  static Eigen::Vector2d direction(std::mt19937& rng) {
+    const double a = std::uniform_real_distribution<double>(-3.1, 3.1)(rng);
+    return {std::cos(a), std::sin(a)};
+  }
+  static Eigen::Vector2d offset() { return {0.1, 0.05}; }
+  /// d f(X (+) delta)/d delta from the gradient at X (+) delta: the chart is additive.
+  static Eigen::Vector3d chart_gradient(const Eigen::Vector3d& /*delta*/,
+                                        const Eigen::Vector3d& gradient) {
+    return gradient;
+  }
+};
+
+template <>
+struct DimFixture<3> {
+  static const VdtMap3& map() {
+    static const VdtMap3 m = VdtMap3::build(room3());
+    return m;
+  }
+  static Pose3 pose(std::mt19937& rng) {
+    std::uniform_real_distribution<double> ux(0.2, 2.8), uy(0.2, 2.3), uz(0.0, 0.5),
+        ut(-0.15, 0.15), ua(-3.1, 3.1);
+    return pose3_from_xyz_rpy(ux(rng), uy(rng), uz(rng), ut(rng), ut(rng), ua(rng));
+  }
+  static Eigen::Vector3d direction(std::mt19937& rng) {
+    std::normal_distribution<double> n(0.0, 1.0);
+    return Eigen::Vector3d(n(rng), n(rng), n(rng)).normalized();
+  }
+  static Eigen::Vector3d offset() { return {-0.05, 0.0, 0.4}; }
+  /// d f(X (+) delta)/d delta from the left-perturbation gradient at Y = X (+) delta:
+  /// Exp(phi + e) = Exp(J_l(phi) e) Exp(phi) + O(e^2), so the rotational part is J_l(phi)^T g_theta
+  /// with the left Jacobian J_l(phi) = I + (1 - cos a)/a^2 [phi]_x + (a - sin a)/a^3 [phi]_x^2.
+  static Vector6d chart_gradient(const Vector6d& delta, const Vector6d& gradient) {
+    const Eigen::Vector3d phi = delta.tail<3>();
+    const double a = phi.norm();
+    Eigen::Matrix3d jl = Eigen::Matrix3d::Identity();
+    if (a > 1e-12) {
+      const Eigen::Matrix3d k = skew(phi);
+      jl += (1 - std::cos(a)) / (a * a) * k + (a - std::sin(a)) / (a * a * a) * k * k;
+    }
+    Vector6d out;
+    out << gradient.head<3>(), jl.transpose() * gradient.tail<3>();
+    return out;
+  }
+};
+
+template <typename T>
+class SensorModelDerivatives : public ::testing::Test {
+ protected:
+  static constexpr int kDim = T::value;
+  using F = DimFixture<kDim>;
+  using Traits = PoseTraits<kDim>;
+  using Pose = typename Traits::Pose;
+  using Vector = typename SpaceTraits<kDim>::Vector;
+  using Tangent = typename Traits::Tangent;
+  struct Beam {
+    Pose x;
+    Vector p, u;
+  };
 
   /// Beams that end within 0.2 m of an obstacle (where localization uses them), away from the
   /// cut loci, from random poses in the room.
-  std::vector<std::pair<Pose2, std::pair<Eigen::Vector2d, Eigen::Vector2d>>> beams(int n) const {
+  static std::vector<Beam> beams(int n) {
     std::mt19937 rng(4);
-    std::uniform_real_distribution<double> ux(0.0, 4.5), uy(0.3, 3.0), ua(-3.1, 3.1), ur(0.5, 3.0);
-    std::vector<std::pair<Pose2, std::pair<Eigen::Vector2d, Eigen::Vector2d>>> out;
+    std::uniform_real_distribution<double> ur(0.5, 3.0);
+    std::vector<Beam> out;
     while (static_cast<int>(out.size()) < n) {
-      const Pose2 x(ux(rng), uy(rng), ua(rng));
-      const double a = ua(rng), r = ur(rng);
-      const Eigen::Vector2d u(std::cos(a), std::sin(a)), p = r * u + Eigen::Vector2d(0.1, 0.05);
-      const Eigen::Vector2d q = transform_point(x, p);
-      const auto s = map_.evaluate(q);
+      const Pose x = F::pose(rng);
+      const Vector u = F::direction(rng);
+      const Vector p = ur(rng) * u + F::offset();
+      const Vector q = Traits::rotation(x) * p + Traits::translation(x);
+      const auto s = F::map().evaluate(q);
       if (!s.inside || s.value.norm() > 0.2 || s.value.norm() < 0.03) continue;
-      out.push_back({x, {p, u}});
+      out.push_back({x, p, u});
     }
     return out;
   }
 };
 
-TEST_F(SensorModelTest, FirstDerivativesMatchFiniteDifferences) {
-  const VdtSensorModel model(map_);
-  for (const auto& [x, beam] : beams(200)) {
-    const auto& [p, u] = beam;
-    const BeamDisparity b = model.disparity(x, p, u);
+using Dims = ::testing::Types<std::integral_constant<int, 2>, std::integral_constant<int, 3>>;
+TYPED_TEST_SUITE(SensorModelDerivatives, Dims);
+
+TYPED_TEST(SensorModelDerivatives, FirstDerivativesMatchFiniteDifferences) {
+  using Traits = typename TestFixture::Traits;
+  using Tangent = typename TestFixture::Tangent;
+  using Vector = typename TestFixture::Vector;
+  const VdtSensorModelT<TestFixture::kDim> model(TestFixture::F::map());
+  for (const auto& [x, p, u] : TestFixture::beams(200)) {
+    const auto b = model.disparity(x, p, u);
     const double h = 1e-4;
-    for (int k = 0; k < 3; ++k) {
-      const Pose2 e = Pose2::Unit(k) * h;
-      const Eigen::Vector2d fd =
-          (model.disparity(x + e, p, u).d - model.disparity(x - e, p, u).d) / (2 * h);
+    for (int k = 0; k < Traits::kDoF; ++k) {
+      const Tangent e = Tangent::Unit(k) * h;
+      const Vector fd = (model.disparity(Traits::plus(x, e), p, u).d -
+                         model.disparity(Traits::plus(x, -e), p, u).d) /
+                        (2 * h);
       ASSERT_LT((b.d_pose.col(k) - fd).norm(), 5e-3 * (1 + b.d_pose.norm())) << "k=" << k;
     }
-    const Eigen::Vector2d fd_r =
+    const Vector fd_r =
         (model.disparity(x, p + h * u, u).d - model.disparity(x, p - h * u, u).d) / (2 * h);
     ASSERT_LT((b.d_range - fd_r).norm(), 5e-3 * (1 + b.d_range.norm()));
   }
 }
 
-TEST_F(SensorModelTest, CurvatureMatchesFiniteDifferencesOfTheGradient) {
-  const VdtSensorModel model(map_);
-  // g(X, r) = d(|d|^2/2)/dX = (dd/dX)^T d; the curvature is its Jacobian in X and in r.
-  const auto g = [&](const Pose2& x, const Eigen::Vector2d& p,
-                     const Eigen::Vector2d& u) -> Eigen::Vector3d {
-    const BeamDisparity b = model.disparity(x, p, u);
+TYPED_TEST(SensorModelDerivatives, CurvatureMatchesFiniteDifferences) {
+  using Traits = typename TestFixture::Traits;
+  using Tangent = typename TestFixture::Tangent;
+  using Pose = typename TestFixture::Pose;
+  using Vector = typename TestFixture::Vector;
+  const VdtSensorModelT<TestFixture::kDim> model(TestFixture::F::map());
+  // g(X, r) = d(|d|^2/2)/dX = (dd/dX)^T d. The cross derivative is its Jacobian in r; the Hessian
+  // is the Jacobian of the chart gradient d f(X (+) delta)/d delta at delta = 0 (additive in 2D,
+  // the left perturbation in 3D).
+  const auto g = [&](const Pose& x, const Vector& p, const Vector& u) -> Tangent {
+    const auto b = model.disparity(x, p, u);
     return b.d_pose.transpose() * b.d;
   };
-  for (const auto& [x, beam] : beams(200)) {
-    const auto& [p, u] = beam;
-    BeamCurvature c;
+  for (const auto& [x, p, u] : TestFixture::beams(200)) {
+    BeamCurvatureT<TestFixture::kDim> c;
     (void)model.disparity(x, p, u, &c);
+    const auto chart = [&](const Tangent& delta) -> Tangent {
+      return TestFixture::F::chart_gradient(delta, g(Traits::plus(x, delta), p, u));
+    };
     const double h = 1e-4;
-    for (int k = 0; k < 3; ++k) {
-      const Pose2 e = Pose2::Unit(k) * h;
-      const Eigen::Vector3d fd = (g(x + e, p, u) - g(x - e, p, u)) / (2 * h);
+    for (int k = 0; k < Traits::kDoF; ++k) {
+      const Tangent e = Tangent::Unit(k) * h;
+      const Tangent fd = (chart(e) - chart(-e)) / (2 * h);
       ASSERT_LT((c.hessian.col(k) - fd).norm(), 2e-2 * (1 + c.hessian.norm())) << "k=" << k;
     }
-    const Eigen::Vector3d fd_r = (g(x, p + h * u, u) - g(x, p - h * u, u)) / (2 * h);
+    ASSERT_LT((c.hessian - c.hessian.transpose()).norm(), 1e-12 * (1 + c.hessian.norm()));
+    const Tangent fd_r = (g(x, p + h * u, u) - g(x, p - h * u, u)) / (2 * h);
     ASSERT_LT((c.cross - fd_r).norm(), 2e-2 * (1 + c.cross.norm()));
   }
 }

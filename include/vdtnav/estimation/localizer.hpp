@@ -1,13 +1,14 @@
 #pragma once
 /// \file
 /// \brief The interface every 2D localizer implements, so that the VDT methods and the baselines
-/// run side by side on the same data.
+/// run side by side on the same data, and the result every localizer (2D and 3D) returns.
 
 #include <string>
 
 #include <Eigen/Core>
 
 #include "vdtnav/core/pose2.hpp"
+#include "vdtnav/core/traits.hpp"
 #include "vdtnav/sensor/laser_scan.hpp"
 
 namespace vdtnav {
@@ -43,17 +44,29 @@ enum class LocalizationStatus {
   return "?";
 }
 
-/// \brief The result of one localization step.
-struct LocalizationResult {
+/// \brief The result of one localization step (aliases LocalizationResult for 2D,
+/// LocalizationResult3 for 3D).
+///
+/// The covariance is that of the pose perturbation of PoseTraits<Dim>: (x, y, phi) in 2D;
+/// (dt, dtheta), the left perturbation in the world frame, in 3D. An estimator that holds some
+/// degrees of freedom fixed (the 4-DOF mode) reports zero rows and columns for them.
+template <int Dim>
+struct LocalizationResultT {
+  using Pose = typename PoseTraits<Dim>::Pose;
+  using Covariance = typename PoseTraits<Dim>::Covariance;
+
   LocalizationStatus status = LocalizationStatus::kTooFewObservations;
-  Pose2 pose = Pose2::Zero();
-  Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
+  Pose pose = PoseTraits<Dim>::identity();
+  Covariance covariance = Covariance::Zero();
   bool has_covariance = false;  ///< false for estimators that report none (C-LOG style)
   int iterations = 0;
   double final_cost = 0.0;
   int inliers = 0;  ///< beams used after gating
   int dropped = 0;  ///< beams dropped: invalid readings, outside the map, gated
 };
+
+using LocalizationResult = LocalizationResultT<2>;
+using LocalizationResult3 = LocalizationResultT<3>;
 
 /// \brief A 2D localizer fed with odometry and scans, one step at a time.
 class Localizer2D {

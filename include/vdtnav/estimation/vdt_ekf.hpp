@@ -15,32 +15,12 @@
 #include <string>
 #include <vector>
 
+#include "vdtnav/estimation/guess_search.hpp"
 #include "vdtnav/estimation/localizer.hpp"
+#include "vdtnav/estimation/motion_model.hpp"
 #include "vdtnav/sensor/vdt_sensor_model.hpp"
 
 namespace vdtnav {
-
-/// \brief The prediction model.
-enum class MotionModelKind {
-  kVelocity,           ///< (3.7)-(3.10) with measured (v, w) and Q = diag(sigma_v^2, sigma_w^2)
-  kOdometryIncrement,  ///< X (+) delta with noise proportional to the motion
-};
-
-/// \brief Motion noise.
-struct MotionNoise {
-  double sigma_v = 0.05;  ///< m/s (Table 3.2 read as a standard deviation)
-  double sigma_w = 0.01;  ///< rad/s
-  /// Velocity model: isotropic process-noise floor for what the motion model leaves out (slip,
-  /// and map error that stays correlated while the robot sees the same walls), m/s and rad/s.
-  /// Without it the filter keeps fusing scans across the direction of motion and its covariance
-  /// shrinks far below the map-limited error (ANEES in the hundreds on the simulated run).
-  double floor_xy_rate = 0.02;
-  double floor_yaw_rate = 0.005;
-  // Odometry-increment model: sigma_trans = a_tt |t| + a_tr |rot| + floor_t,
-  // sigma_rot = a_rr |rot| + a_rt |t| + floor_r (per step).
-  double a_tt = 0.05, a_tr = 0.01, a_rr = 0.05, a_rt = 0.02;
-  double floor_t = 0.001, floor_r = 0.001;
-};
 
 /// \brief Options of the VDT EKF.
 struct VdtEkfOptions {
@@ -48,11 +28,15 @@ struct VdtEkfOptions {
   MotionModelKind motion = MotionModelKind::kVelocity;
   MotionNoise noise;
   int min_inliers = 10;  ///< fewer usable beams: prediction only, kTooFewObservations
+  /// Gauss-Newton iterations of the update on the MAP cost (iterated EKF); 1 is the classic EKF,
+  /// linearised once at the prediction. Later iterations relinearise at the current iterate and
+  /// re-gate, which widens the basin when the prediction is off by more than the gate allows.
+  int max_iterations = 3;
+  /// Poor predictions: the iterations start at the best pose of a window search around the
+  /// prediction (the prior still pulls toward the prediction), and an update that leaves the
+  /// scan unexplained is refused (prediction only, kNotConverged). See guess_search.hpp.
+  GuessSearchOptions search;
 };
-
-/// \brief One EKF step's prediction (3.7)-(3.10) or odometry-increment prediction.
-void ekf_predict(MotionModelKind kind, const MotionNoise& noise, const OdometryStep& odometry,
-                 Pose2& x, Eigen::Matrix3d& p);
 
 /// \brief The batch EKF update with the 2n x 2n innovation covariance (reference for tests).
 void ekf_update_batch(const std::vector<Eigen::Vector2d>& innovation,

@@ -1,7 +1,9 @@
 #pragma once
 /// \file
 /// \brief Pose estimation by non-linear least squares on the VDT (thesis 3.2, Algorithm 1), with
-/// the pose covariance from the implicit function theorem (3.4)-(3.6) as corrected in SPEC.
+/// the pose covariance from the implicit function theorem (3.4)-(3.6) as corrected in SPEC, for
+/// 3-DOF planar poses (VdtOptimizer) and 6-DOF SE(3) poses (VdtOptimizer3, thesis 3.4.4) from one
+/// estimator template VdtOptimizerT<Dim>.
 ///
 /// The estimate minimises d_VCD = sum_i |d_i|^2 (2.17) over the gated beams (3.3). At the minimum
 /// the gradient g(X, r) = sum_i J_i^T d_i vanishes, so dX/dr = -H^{-1} dg/dr with H the *full*
@@ -10,11 +12,20 @@
 /// the vector d_VDT). Then
 ///   cov(X) = H^{-1} [ sum_i sigma_r^2 b_i b_i^T + sum_i J_i^T sigma_map^2 J_i ] H^{-1}   (3.4)
 /// where b_i = d^2(d_VCD/2)/dX dr_i and the second term is the map-noise floor.
+///
+/// In 3D the pose is one Ceres parameter block of 7 numbers (quaternion, translation) on the
+/// manifold Se3LeftManifold (left perturbation, se3_manifold.hpp); X, H and cov are in its tangent
+/// (dt, dtheta), world frame. The 4-DOF mode (VdtOptimizerOptions::four_dof) uses Se3YawManifold:
+/// x, y, z and yaw about the world z axis are estimated, roll and pitch stay exactly those of the
+/// guess (e.g. from an IMU), and the covariance is the 4 x 4 block of (dt, dtheta_z) embedded in
+/// the 6 x 6 matrix with zero rows and columns for dtheta_x, dtheta_y.
 
 #include <memory>
 #include <string>
 #include <vector>
 
+#include "vdtnav/core/traits.hpp"
+#include "vdtnav/estimation/guess_search.hpp"
 #include "vdtnav/estimation/localizer.hpp"
 #include "vdtnav/sensor/vdt_sensor_model.hpp"
 
@@ -40,40 +51,79 @@ struct VdtOptimizerOptions {
   int max_iterations = 25;
   int gate_rounds = 3;   ///< re-gate at the solution and solve again while the inliers change
   int min_inliers = 10;  ///< fewer usable beams: kTooFewObservations
-  /// Coarse-to-fine levels used when the guess is poor (median disparity > 10 cm): the map is
-  /// also built at resolution x 2^k, k = levels .. 1, and solved there first with a wide gate and a
-  /// Cauchy loss, which widens the basin of convergence past thin structures.
-  int pyramid_levels = 2;
+  /// Coarse-to-fine levels used when the guess is poor (median disparity > coarse_threshold): the
+  /// map is also built at resolution x 2^k, k = levels .. 1, and solved there first with a wide
+  /// gate and a Cauchy loss (IRLS: 3 passes per level in 2D, 1 in 3D), which widens the basin of
+  /// convergence past thin structures. < 0: the dimension's default, 2 in 2D, 3 in 3D (0.1, 0.2
+  /// and 0.4 m for a 0.05 m map, about 1/7 of its memory: the 0.4 m level doubles the share of
+  /// sparse clouds that reach the basin from Table 3.4's scenario B).
+  int pyramid_levels = -1;
+  /// Median disparity at the guess, metres, above which the coarse-to-fine alignment runs.
+  /// < 0: the dimension's default, 0.1 m in 2D; 0 in 3D, where it always runs: from Table 3.4's
+  /// scenarios A and B (median disparity 4-9 cm) the fine level alone can stop in a local minimum
+  /// (2-6 cm, 7-50 mrad off on the test clouds) and the coarse passes cost about what they save.
+  double coarse_threshold = -1.0;
   /// Scale the covariance by the a posteriori variance factor s^2 = sum_i d_i^T R_i^-1 d_i /
-  /// (2n - 3) when it exceeds 1 (R_i: disparity covariance with the map floor): the residuals
+  /// (Dim n - DoF) when it exceeds 1 (R_i: disparity covariance with the map floor): the residuals
   /// themselves say when the map is rougher than the floor assumes.
   bool variance_factor = false;
+  /// 3D only (ignored in 2D): the 4-DOF mode, x, y, z and yaw estimated, roll and pitch held at
+  /// those of the guess (from an IMU), as DLL does.
+  bool four_dof = false;
+  /// 2D localizer only: when the solution from the odometry guess explains the scan poorly, also
+  /// solve from the best pose of a window search around the guess and keep the better; refuse a
+  /// solution that leaves the scan unexplained (the guess is kept, status kNotConverged).
+  GuessSearchOptions search;
 };
 
-/// \brief Algorithm 1's OPTIMIZE: one scan against the map from an initial guess.
-class VdtOptimizer {
+/// \brief Algorithm 1's OPTIMIZE: one observation set against the map from an initial guess
+/// (aliases VdtOptimizer for 2D, VdtOptimizer3 for 3D).
+template <int Dim>
+class VdtOptimizerT {
  public:
+  using Traits = PoseTraits<Dim>;
+  using Pose = typename Traits::Pose;
+  using Covariance = typename Traits::Covariance;
+  using Map = VdtMap<Dim>;
+  using Observations = ObservationSet<Dim>;
+  using SensorModel = VdtSensorModelT<Dim>;
+  using Result = LocalizationResultT<Dim>;
+
   /// \throws ConfigError for invalid options.
-  VdtOptimizer(const VdtMap2& map, const VdtOptimizerOptions& options = {});
+  VdtOptimizerT(const Map& map, const VdtOptimizerOptions& options = {});
 
   /// \brief Minimises d_VCD from `guess`; fills the covariance when the estimate is a minimum
   /// (positive definite Hessian), with status kNotConverged if Ceres hit its iteration limit.
-  [[nodiscard]] LocalizationResult solve(const ScanPoints& scan, const Pose2& guess) const;
+  [[nodiscard]] Result solve(const Observations& observations, const Pose& guess) const;
 
-  /// \brief The pose covariance at `pose` over the beams flagged in `inliers`.
+  /// \brief The pose covariance at `pose` over the readings flagged in `inliers` (in the 4-DOF
+  /// mode with zero rows and columns for dtheta_x, dtheta_y).
   /// \return false when the Hessian is not positive definite (not a minimum).
-  [[nodiscard]] bool covariance(const ScanPoints& scan, const Pose2& pose,
-                                const std::vector<char>& inliers, Eigen::Matrix3d* cov) const;
+  [[nodiscard]] bool covariance(const Observations& observations, const Pose& pose,
+                                const std::vector<char>& inliers, Covariance* cov) const;
 
-  [[nodiscard]] const VdtSensorModel& sensor_model() const noexcept { return model_; }
+  [[nodiscard]] const SensorModel& sensor_model() const noexcept { return model_; }
   [[nodiscard]] const VdtOptimizerOptions& options() const noexcept { return options_; }
+  /// \return whether pose component k of the tangent is estimated (false: held, 4-DOF mode).
+  [[nodiscard]] bool is_free(int k) const noexcept;
 
  private:
-  VdtSensorModel model_;
+  /// covariance() with the readings visited in `order` (see lookup_order in the .cpp).
+  [[nodiscard]] bool covariance(const Observations& observations, const Pose& pose,
+                                const std::vector<char>& inliers, const std::vector<int>& order,
+                                Covariance* cov) const;
+
+  SensorModel model_;
   VdtOptimizerOptions options_;
-  std::vector<std::unique_ptr<VdtMap2>> coarse_maps_;  // coarsest first
-  std::vector<VdtSensorModel> coarse_models_;
+  std::vector<std::unique_ptr<Map>> coarse_maps_;  // coarsest first
+  std::vector<SensorModel> coarse_models_;
 };
+
+extern template class VdtOptimizerT<2>;
+extern template class VdtOptimizerT<3>;
+
+using VdtOptimizer = VdtOptimizerT<2>;
+using VdtOptimizer3 = VdtOptimizerT<3>;
 
 /// \brief Algorithm 1 as a localizer: the next guess is the last estimate composed with the
 /// odometry increment (UPDATEGUESS), then OPTIMIZE. Name "vdt-opt".
@@ -89,6 +139,10 @@ class VdtOptimizationLocalizer final : public Localizer2D {
  private:
   VdtOptimizer optimizer_;
   Pose2 pose_ = Pose2::Zero();
+  /// The uncertainty of the next guess: the last accepted estimate's covariance, propagated
+  /// with the odometry noise of options().search while updates are refused; it sizes the
+  /// window search (guess_search.hpp).
+  Eigen::Matrix3d uncertainty_ = Eigen::Matrix3d::Zero();
   std::string name_;
 };
 

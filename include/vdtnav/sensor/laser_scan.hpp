@@ -11,6 +11,7 @@
 #include <Eigen/Core>
 
 #include "vdtnav/core/pose2.hpp"
+#include "vdtnav/sensor/observation_set.hpp"
 
 namespace vdtnav {
 
@@ -36,17 +37,7 @@ struct LaserScan {
 ///
 /// Beam i with range r and angle theta ends at  p = t_m + R(phi_m) r (cos theta, sin theta)  in the
 /// robot frame (SPEC's corrected (2.11) after the mounting transform); dp/dr = R(phi_m) (cos, sin).
-struct ScanPoints {
-  std::vector<Eigen::Vector2d> points;      ///< endpoints, robot frame
-  std::vector<Eigen::Vector2d> directions;  ///< unit beam directions (dp/dr), robot frame
-  std::vector<double> ranges;               ///< the ranges kept
-  std::vector<std::size_t> beam;            ///< index of each kept beam in the scan
-  double sigma_range = 0.0;
-  std::size_t dropped_not_finite = 0;    ///< NaN or inf readings
-  std::size_t dropped_out_of_range = 0;  ///< outside [range_min, range_max)
-
-  [[nodiscard]] std::size_t size() const noexcept { return points.size(); }
-};
+using ScanPoints = ObservationSet<2>;
 
 /// \brief Converts a scan to robot-frame points, dropping and counting invalid readings.
 [[nodiscard]] inline ScanPoints scan_points(const LaserScan& scan) {

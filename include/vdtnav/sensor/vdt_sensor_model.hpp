@@ -1,13 +1,17 @@
 #pragma once
 /// \file
-/// \brief The LiDAR sensor model on a VDT map (thesis 2.3.1, corrected per SPEC).
+/// \brief The range sensor model on a VDT map (thesis 2.3.1, corrected per SPEC), in 2D and 3D.
 ///
-/// Beam i ends at the robot-frame point p_i (after the mounting transform); at robot pose
-/// X = (x, y, phi) it lies at q_i = t + R(phi) p_i (corrected (2.11)). Its disparity is
+/// Reading i ends at the robot-frame point p_i (after the mounting transform); at robot pose X
+/// (2D: (x, y, phi); 3D: (R, t) in SE(3)) it lies at q_i = R p_i + t (corrected (2.11)). Its
+/// disparity is
 ///   d_i = DT_v(q_i)                                                  (2.12)
-/// with analytic derivatives
-///   dd_i/dX = J(q_i) [I | R'(phi) p_i],   dd_i/dr_i = J(q_i) R(phi) u_i,
-/// J = dDT_v/dp, u_i the unit beam direction. The scalar cost is the Vector Chamfer Distance
+/// with analytic derivatives, in the pose perturbation of PoseTraits<Dim> (2D: additive;
+/// 3D: left, delta = (dt, dtheta) in the world frame):
+///   dd_i/dX = J(q_i) dq_i/dX,   dq/dX = [I | R' p_i] (2D),  [I | -[R p_i]_x] (3D),
+///   dd_i/dr_i = J(q_i) R u_i,
+/// J = dDT_v/dp, u_i = dp_i/dr_i the unit beam direction. The scalar cost is the Vector Chamfer
+/// Distance
 ///   d_VCD = sum_i |d_i|^2                                            (2.17)
 /// and beams are gated (3.3) on the *magnitudes* of the signed components (SPEC).
 
@@ -16,15 +20,18 @@
 
 #include <Eigen/Core>
 
-#include "vdtnav/core/pose2.hpp"
+#include <type_traits>
+
+#include "vdtnav/core/traits.hpp"
 #include "vdtnav/map/vdt_map.hpp"
 #include "vdtnav/sensor/laser_scan.hpp"
+#include "vdtnav/sensor/observation_set.hpp"
 
 namespace vdtnav {
 
 /// \brief Which beams count (3.3).
 enum class GateMode {
-  kComponents,  ///< |DT_x| < alpha and |DT_y| < alpha (the thesis's (3.3) with magnitudes)
+  kComponents,  ///< |DT_c| < alpha for every component c (the thesis's (3.3) with magnitudes)
   kNorm,        ///< |DT_v| < alpha
   kNone,        ///< every beam inside the map
 };
@@ -38,7 +45,7 @@ enum class ResidualMode {
 /// \brief The per-beam disparity covariance.
 enum class DisparityCovariance {
   kExactRankOne,  ///< sigma_r^2 j j^T + sigma_map^2 I: both components come from one range
-  kDiagonal,      ///< the thesis's (2.13): diag(j_x^2, j_y^2) sigma_r^2 (+ sigma_map^2 I)
+  kDiagonal,      ///< the thesis's (2.13): diag(j_c^2) sigma_r^2 (+ sigma_map^2 I)
 };
 
 /// \brief Options of the sensor model.
@@ -53,64 +60,106 @@ struct VdtSensorModelOptions {
   double map_sigma = -1.0;  ///< < 0: resolution / sqrt(12)
 };
 
-/// \brief One beam's disparity and its derivatives at a pose.
-struct BeamDisparity {
-  Eigen::Vector2d d = Eigen::Vector2d::Zero();                               ///< d_i (2.12)
-  Eigen::Matrix<double, 2, 3> d_pose = Eigen::Matrix<double, 2, 3>::Zero();  ///< dd_i/dX
-  Eigen::Vector2d d_range = Eigen::Vector2d::Zero();                         ///< dd_i/dr_i
-  bool inside = false;  ///< endpoint inside the map
-  bool inlier = false;  ///< inside and passes the gate
+/// \brief One reading's disparity and its derivatives at a pose (aliases BeamDisparity for 2D,
+/// BeamDisparity3 for 3D).
+template <int Dim>
+struct BeamDisparityT {
+  using Vector = typename SpaceTraits<Dim>::Vector;
+  using PoseJacobian = typename PoseTraits<Dim>::PointJacobian;
+  Vector d = Vector::Zero();                   ///< d_i (2.12)
+  PoseJacobian d_pose = PoseJacobian::Zero();  ///< dd_i/dX (Dim x DoF)
+  Vector d_range = Vector::Zero();             ///< dd_i/dr_i
+  bool inside = false;                         ///< endpoint inside the map
+  bool inlier = false;                         ///< inside and passes the gate
 };
 
-/// \brief Second derivatives of beam i's VCD term |d_i|^2 / 2 (what the implicit-function
-/// covariance (3.4)-(3.6), as corrected in SPEC, needs).
-struct BeamCurvature {
-  Eigen::Matrix3d hessian = Eigen::Matrix3d::Zero();  ///< d^2(|d_i|^2/2)/dX^2
-  Eigen::Vector3d cross = Eigen::Vector3d::Zero();    ///< d^2(|d_i|^2/2)/dX dr_i
+/// \brief Second derivatives of reading i's VCD term |d_i|^2 / 2 (what the implicit-function
+/// covariance (3.4)-(3.6), as corrected in SPEC, needs), in the perturbation of PoseTraits<Dim>.
+template <int Dim>
+struct BeamCurvatureT {
+  using Hessian = typename PoseTraits<Dim>::Covariance;
+  using Cross = typename PoseTraits<Dim>::Tangent;
+  Hessian hessian = Hessian::Zero();  ///< d^2(|d_i|^2/2)/dX^2
+  Cross cross = Cross::Zero();        ///< d^2(|d_i|^2/2)/dX dr_i
 };
 
-/// \brief The VDT sensor model of one map.
-class VdtSensorModel {
+/// \brief The VDT sensor model of one map (aliases VdtSensorModel for 2D, VdtSensorModel3 for
+/// 3D).
+template <int Dim>
+class VdtSensorModelT {
  public:
+  using Traits = PoseTraits<Dim>;
+  using Pose = typename Traits::Pose;
+  using Rotation = typename Traits::Rotation;
+  using Vector = typename SpaceTraits<Dim>::Vector;
+  using Matrix = typename SpaceTraits<Dim>::Matrix;
+  using Map = VdtMap<Dim>;
+  using Observations = ObservationSet<Dim>;
+  using Disparity = BeamDisparityT<Dim>;
+  using Curvature = BeamCurvatureT<Dim>;
+
   /// \throws ConfigError for a negative gate.
-  VdtSensorModel(const VdtMap2& map, const VdtSensorModelOptions& options = {});
+  VdtSensorModelT(const Map& map, const VdtSensorModelOptions& options = {});
 
-  /// \brief Disparity and first derivatives of beam (p, u) at pose X (gate decided here).
-  [[nodiscard]] BeamDisparity disparity(const Pose2& pose, const Eigen::Vector2d& p,
-                                        const Eigen::Vector2d& u) const;
+  /// \brief Disparity and first derivatives of reading (p, u) at pose X (gate decided here), and
+  /// the second derivatives when `curvature` is given.
+  [[nodiscard]] Disparity disparity(const Pose& pose, const Vector& p, const Vector& u,
+                                    Curvature* curvature = nullptr) const {
+    return disparity(Traits::rotation(pose), Traits::translation(pose), p, u, curvature);
+  }
 
-  /// \brief Disparity, first and second derivatives of beam (p, u) at pose X.
-  [[nodiscard]] BeamDisparity disparity(const Pose2& pose, const Eigen::Vector2d& p,
-                                        const Eigen::Vector2d& u, BeamCurvature* curvature) const;
+  /// \brief As above at the pose with rotation R and translation t (the readings of one set share
+  /// them).
+  [[nodiscard]] Disparity disparity(const Rotation& r, const Vector& t, const Vector& p,
+                                    const Vector& u, Curvature* curvature = nullptr) const;
 
-  /// \brief As above with cos(phi), sin(phi) given (a scan's beams share them).
-  [[nodiscard]] BeamDisparity disparity(const Pose2& pose, double cos_phi, double sin_phi,
-                                        const Eigen::Vector2d& p, const Eigen::Vector2d& u,
-                                        BeamCurvature* curvature = nullptr) const;
+  /// \brief Disparity only (no derivatives: the cheaper lookup), whether the reading is an
+  /// inlier and whether it is inside the map, for residual-only evaluations and gating.
+  [[nodiscard]] Vector disparity_value(const Rotation& r, const Vector& t, const Vector& p,
+                                       bool* inlier, bool* inside = nullptr) const;
 
-  /// \brief Disparity only (no derivatives: the cheaper lookup), and whether the beam is an
-  /// inlier, for residual-only evaluations and gating.
+  /// \brief 2D: as disparity(pose, p, u, curvature) with cos(phi), sin(phi) given.
+  template <int D = Dim, std::enable_if_t<D == 2, int> = 0>
+  [[nodiscard]] Disparity disparity(const Pose2& pose, double cos_phi, double sin_phi,
+                                    const Eigen::Vector2d& p, const Eigen::Vector2d& u,
+                                    Curvature* curvature = nullptr) const {
+    return disparity(Traits::rotation(cos_phi, sin_phi), pose.head<2>(), p, u, curvature);
+  }
+
+  /// \brief 2D: disparity_value at pose (x, y, phi) with cos(phi), sin(phi) given.
+  template <int D = Dim, std::enable_if_t<D == 2, int> = 0>
   [[nodiscard]] Eigen::Vector2d disparity_value(const Pose2& pose, double cos_phi, double sin_phi,
-                                                const Eigen::Vector2d& p, bool* inlier) const;
+                                                const Eigen::Vector2d& p, bool* inlier) const {
+    return disparity_value(Traits::rotation(cos_phi, sin_phi), pose.head<2>(), p, inlier);
+  }
 
-  /// \brief 2x2 covariance of d_i from the range noise (and the map-noise floor).
-  [[nodiscard]] Eigen::Matrix2d disparity_covariance(const BeamDisparity& b,
-                                                     double sigma_range) const;
+  /// \brief Dim x Dim covariance of d_i from the range noise (and the map-noise floor).
+  [[nodiscard]] Matrix disparity_covariance(const Disparity& b, double sigma_range) const;
 
-  /// \brief d_VCD (2.17) over the inlier beams of a scan at pose X; counts inliers if asked.
-  [[nodiscard]] double vector_chamfer_distance(const Pose2& pose, const ScanPoints& scan,
+  /// \brief d_VCD (2.17) over the inlier readings at pose X; counts inliers if asked.
+  [[nodiscard]] double vector_chamfer_distance(const Pose& pose, const Observations& observations,
                                                int* inliers = nullptr) const;
 
   [[nodiscard]] const VdtSensorModelOptions& options() const noexcept { return options_; }
   [[nodiscard]] double map_sigma() const noexcept { return map_sigma_; }
-  [[nodiscard]] const VdtMap2& map() const noexcept { return *map_; }
+  [[nodiscard]] const Map& map() const noexcept { return *map_; }
 
  private:
-  [[nodiscard]] bool passes_gate(const Eigen::Vector2d& d) const noexcept;
+  [[nodiscard]] bool passes_gate(const Vector& d) const noexcept;
 
-  const VdtMap2* map_;
+  const Map* map_;
   VdtSensorModelOptions options_;
   double map_sigma_;
 };
+
+extern template class VdtSensorModelT<2>;
+extern template class VdtSensorModelT<3>;
+
+using BeamDisparity = BeamDisparityT<2>;
+using BeamDisparity3 = BeamDisparityT<3>;
+using BeamCurvature = BeamCurvatureT<2>;
+using BeamCurvature3 = BeamCurvatureT<3>;
+using VdtSensorModel = VdtSensorModelT<2>;
+using VdtSensorModel3 = VdtSensorModelT<3>;
 
 }  // namespace vdtnav

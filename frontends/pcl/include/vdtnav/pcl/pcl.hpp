@@ -1,0 +1,6 @@
+#pragma once
+/// \file
+/// \brief vdtnav::pcl, the point cloud front end: everything in vdtnav/pcl/.
+
+#include "vdtnav/pcl/point_cloud_conversion.hpp"
+#include "vdtnav/pcl/point_cloud_map.hpp"

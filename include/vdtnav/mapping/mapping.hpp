@@ -1,0 +1,5 @@
+#pragma once
+/// \file
+/// \brief Umbrella header of vdtnav/mapping: occupancy maps from known poses and scans.
+
+#include "vdtnav/mapping/occupancy_mapper.hpp"

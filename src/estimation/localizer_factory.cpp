@@ -1,0 +1,26 @@
+#include "vdtnav/estimation/localizer_factory.hpp"
+
+#include "vdtnav/core/error.hpp"
+
+namespace vdtnav {
+
+const std::vector<std::string>& localizer_methods() {
+  static const std::vector<std::string> kMethods{"vdt-opt", "vdt-ekf", "udt-opt", "udt-ekf", "pf"};
+  return kMethods;
+}
+
+std::unique_ptr<Localizer2D> make_localizer(const std::string& method, const VdtMap2& vdt,
+                                            const OccupancyGrid<2>& occupancy,
+                                            const LocalizerSettings& settings) {
+  if (method == "vdt-opt") return std::make_unique<VdtOptimizationLocalizer>(vdt, settings.vdt_opt);
+  if (method == "vdt-ekf") return std::make_unique<VdtEkfLocalizer>(vdt, settings.vdt_ekf);
+  if (method == "udt-opt") return std::make_unique<UdtOptimizationLocalizer>(occupancy, settings.udt);
+  if (method == "udt-ekf") return std::make_unique<UdtEkfLocalizer>(occupancy, settings.udt);
+  if (method == "pf") return std::make_unique<ParticleFilterLocalizer>(occupancy, settings.pf);
+  std::string known;
+  for (const auto& m : localizer_methods()) known += (known.empty() ? "" : ", ") + m;
+  throw ConfigError("unknown localization method '" + method + "' (expected one of: " + known +
+                    ")");
+}
+
+}  // namespace vdtnav
