@@ -1,0 +1,219 @@
+// `vdtnav map`, `vdtnav localize` and `vdtnav eval` end to end on a short simulated CARMEN log:
+// the map is built from the log's (true) poses, the log's odometry fields drift like wheel
+// odometry, and the localized trajectory is checked against the simulator's ground truth, which
+// the test evaluates itself (independently of `vdtnav eval`, whose JSON must agree with it).
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <Eigen/Eigenvalues>
+
+#include "vdtnav/io/carmen_log.hpp"
+#include "vdtnav/io/relations.hpp"
+#include "vdtnav/io/tum_trajectory.hpp"
+#include "vdtnav/sim/floor_plan.hpp"
+#include "vdtnav/sim/lidar_simulator.hpp"
+#include "vdtnav/sim/route_planner.hpp"
+#include "vdtnav/sim/trajectory.hpp"
+
+namespace vdtnav {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr int kBeams = 361;     // FLASER: n beams over 180 degrees, pi / n apart
+constexpr double kT0 = 1000.0;  // the log's time base
+
+struct Fixture {
+  std::filesystem::path dir;
+  sim::SimulatedRun run;
+};
+
+std::string cli() { return VDTNAV_CLI; }
+
+int run_cli(const std::string& args, const std::filesystem::path& output) {
+  return std::system((cli() + " " + args + " > " + output.string() + " 2>&1").c_str());
+}
+
+std::string read_all(const std::filesystem::path& p) {
+  std::ifstream in(p);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+/// A simulated run of 150 scans at 2 Hz through the generated floor plan, written as a CARMEN
+/// log whose FLASER poses are the truth and whose odometry fields are dead reckoning.
+const Fixture& fixture() {
+  static const Fixture f = [] {
+    Fixture x;
+    // One folder per process: ctest runs the two tests in parallel processes.
+    x.dir = std::filesystem::path(VDTNAV_TEST_TMP) / ("cli_" + std::to_string(::getpid()));
+    std::filesystem::create_directories(x.dir);
+    const sim::FloorPlan plan = sim::generate_floor_plan({});
+    const std::vector<Eigen::Vector2d> path = sim::plan_tour(plan.occupancy, 4, 0.4, 5);
+    sim::TrajectoryOptions to;
+    to.min_steps = 1;
+    const std::vector<sim::TimedPose> full = sim::follow_path(path, plan.occupancy, to);
+    std::vector<sim::TimedPose> part;
+    for (std::size_t k = 0; k < full.size() && part.size() < 150; k += 20) part.push_back(full[k]);
+    // FLASER geometry (beam i at -pi/2 + i pi/n): the symmetric simulated fan turned by the mount.
+    sim::LidarOptions lidar;
+    lidar.angular_resolution = kPi / kBeams;
+    lidar.fov = (kBeams - 1) * lidar.angular_resolution;
+    lidar.mount = Pose2(0.0, 0.0, -0.5 * lidar.angular_resolution);
+    lidar.range_max = 30.0;
+    sim::NoiseProfile noise = sim::NoiseProfile::table_3_2_sigma();
+    noise.sigma_w = 0.05;  // drifting odometry: the localizer must correct it
+    x.run = sim::simulate_run(plan.occupancy, part, lidar, noise, 11);
+
+    CarmenLog log;
+    Pose2 odom = x.run.truth[0];
+    for (std::size_t k = 0; k < x.run.size(); ++k) {
+      if (k > 0) odom = compose(odom, x.run.odometry[k].delta);
+      CarmenLaser l;
+      l.time = kT0 + x.run.times[k];
+      l.ipc_time = l.time;
+      l.pose = x.run.truth[k];
+      l.odom = odom;
+      l.scan = x.run.scans[k];
+      l.scan.mount = Pose2::Zero();
+      set_flaser_geometry(kBeams, l.scan);
+      log.lasers.push_back(l);
+    }
+    save_carmen_log((x.dir / "run.log").string(), log);
+    std::vector<StampedPose3> truth;
+    std::vector<Relation> relations;
+    for (std::size_t k = 0; k < x.run.size(); ++k) {
+      truth.push_back({kT0 + x.run.times[k], pose3_from_pose2(x.run.truth[k])});
+      if (k + 5 < x.run.size()) {
+        relations.push_back({kT0 + x.run.times[k], kT0 + x.run.times[k + 5],
+                             between(x.run.truth[k], x.run.truth[k + 5])});
+      }
+    }
+    save_tum_trajectory((x.dir / "truth.tum").string(), truth);
+    save_relations((x.dir / "truth.relations").string(), relations);
+    return x;
+  }();
+  return f;
+}
+
+/// The value of `"key": number` after the first occurrence of `section` in a JSON text.
+double json_number(const std::string& js, const std::string& section, const std::string& key) {
+  std::size_t p = js.find(section);
+  if (p == std::string::npos) return std::nan("");
+  p = js.find("\"" + key + "\":", p);
+  if (p == std::string::npos) return std::nan("");
+  return std::stod(js.substr(p + key.size() + 3));
+}
+
+TEST(CliEndToEnd, MapLocalizeEvalRecoverTheSimulatedTrajectory) {
+  const Fixture& f = fixture();
+  const std::filesystem::path d = f.dir;
+  ASSERT_EQ(run_cli("map --log " + (d / "run.log").string() + " --resolution 0.05 --out " +
+                        (d / "map").string() + " --quiet",
+                    d / "map.txt"),
+            0)
+      << read_all(d / "map.txt");
+  for (const char* ext : {".yaml", ".pgm", ".vdt"}) {
+    EXPECT_TRUE(std::filesystem::exists(d / (std::string("map") + ext))) << ext;
+  }
+  ASSERT_EQ(run_cli("localize --map " + (d / "map.yaml").string() + " --log " +
+                        (d / "run.log").string() + " --method vdt-opt --out " +
+                        (d / "est.tum").string() + " --cov " + (d / "est_cov.csv").string(),
+                    d / "localize.txt"),
+            0)
+      << read_all(d / "localize.txt");
+
+  // One TUM line per scan, stamped in the log's time base, close to the truth.
+  const TumTrajectory est = load_tum_trajectory((d / "est.tum").string());
+  ASSERT_EQ(est.poses.size(), f.run.size());
+  double sq = 0.0, dead_reckoning_sq = 0.0;
+  Pose2 odom = f.run.truth[0];
+  for (std::size_t k = 0; k < f.run.size(); ++k) {
+    EXPECT_NEAR(est.poses[k].t, kT0 + f.run.times[k], 1e-6);
+    const Pose2 p = pose2_from_pose3(est.poses[k].pose);
+    sq += (p.head<2>() - f.run.truth[k].head<2>()).squaredNorm();
+    if (k > 0) odom = compose(odom, f.run.odometry[k].delta);
+    dead_reckoning_sq += (odom.head<2>() - f.run.truth[k].head<2>()).squaredNorm();
+  }
+  const double rmse = std::sqrt(sq / static_cast<double>(f.run.size()));
+  const double dead_reckoning = std::sqrt(dead_reckoning_sq / static_cast<double>(f.run.size()));
+  EXPECT_LT(rmse, 0.05);  // measured 0.029 m: a map built from 0.02 m-noise scans at 0.05 m
+  EXPECT_GT(dead_reckoning, 10.0 * rmse);  // the odometry alone would not do
+
+  // The covariance CSV: the header of the issue, one row per scan, positive definite.
+  std::ifstream cov(d / "est_cov.csv");
+  std::string line;
+  std::getline(cov, line);
+  EXPECT_EQ(line, "t,xx,xy,xt,yy,yt,tt");
+  std::size_t rows = 0, with_covariance = 0;
+  while (std::getline(cov, line)) {
+    std::vector<double> v;
+    std::stringstream s(line);
+    for (std::string tok; std::getline(s, tok, ',');) v.push_back(std::stod(tok));
+    ASSERT_EQ(v.size(), 7u) << line;
+    Eigen::Matrix3d c;
+    c << v[1], v[2], v[3], v[2], v[4], v[5], v[3], v[5], v[6];
+    if (c.allFinite()) {
+      ++with_covariance;
+      EXPECT_GT(Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(c).eigenvalues().minCoeff(), 0.0)
+          << line;
+    }
+    ++rows;
+  }
+  EXPECT_EQ(rows, f.run.size());
+  EXPECT_GT(with_covariance, f.run.size() * 9 / 10);
+
+  // `vdtnav eval` against the reference and the relations: its unaligned ATE is the test's own.
+  ASSERT_EQ(run_cli("eval --traj " + (d / "est.tum").string() + " --reference " +
+                        (d / "truth.tum").string() + " --cov " + (d / "est_cov.csv").string() +
+                        " --relations " + (d / "truth.relations").string() + " --json-out " +
+                        (d / "eval.json").string(),
+                    d / "eval.txt"),
+            0)
+      << read_all(d / "eval.txt");
+  const std::string js = read_all(d / "eval.json");
+  EXPECT_NEAR(json_number(js, "\"ate_trans_m\"", "rmse"), rmse, 1e-6) << js;
+  EXPECT_NEAR(json_number(js, "\"ate_trans_m\"", "count"), static_cast<double>(f.run.size()), 0.5);
+  EXPECT_NEAR(json_number(js, "\"relations\"", "used"), static_cast<double>(f.run.size() - 5), 0.5);
+  EXPECT_LT(json_number(js, "\"relations\"", "trans_mean_m"), 0.04);  // measured 0.020 m
+}
+
+TEST(CliEndToEnd, BadInputsFailWithAMessageNamingTheFile) {
+  const Fixture& f = fixture();
+  const std::filesystem::path d = f.dir;
+  {
+    std::ofstream bad(d / "bad.log");
+    bad << "FLASER 3 1.0 2.0\n";  // too few fields
+  }
+  EXPECT_NE(run_cli("localize --map " + (d / "missing.yaml").string() + " --log " +
+                        (d / "bad.log").string() + " --out " + (d / "x.tum").string(),
+                    d / "bad1.txt"),
+            0);
+  ASSERT_EQ(run_cli("map --log " + (d / "run.log").string() + " --resolution 0.1 --out " +
+                        (d / "coarse").string() + " --quiet",
+                    d / "coarse.txt"),
+            0);
+  EXPECT_NE(run_cli("localize --map " + (d / "coarse.yaml").string() + " --log " +
+                        (d / "bad.log").string() + " --method vdt-opt --out " +
+                        (d / "x.tum").string(),
+                    d / "bad2.txt"),
+            0);
+  EXPECT_NE(read_all(d / "bad2.txt").find("bad.log:1"), std::string::npos)
+      << read_all(d / "bad2.txt");
+  EXPECT_NE(run_cli("localize --map " + (d / "coarse.yaml").string() + " --log " +
+                        (d / "run.log").string() + " --method nope --out " +
+                        (d / "x.tum").string(),
+                    d / "bad3.txt"),
+            0);
+}
+
+}  // namespace
+}  // namespace vdtnav

@@ -1,0 +1,247 @@
+// vdtnav eval: a trajectory against benchmark relations (Kuemmerle et al. 2009) and/or a reference
+// trajectory (ATE with and without SE(2) Umeyama alignment, RPE), and the NEES of its covariance.
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+
+#include "common.hpp"
+#include "plots.hpp"
+#include "vdtnav/core/error.hpp"
+#include "vdtnav/eval/nees.hpp"
+#include "vdtnav/eval/relation_metric.hpp"
+#include "vdtnav/io/relations.hpp"
+
+namespace vdtnav::tools {
+
+namespace {
+
+constexpr double kRadToDeg = 57.29577951308232;
+
+struct EvalArgs {
+  std::string traj, relations, reference, cov, json_path, plot;
+  double max_gap = 1.0;
+  double stamp_tolerance = 1e-6;  // relation ends: the microsecond stamps are exact
+  double match_tolerance = 0.01;  // estimate <-> reference (and covariance) association
+  double rpe_delta = 1.0;
+  bool json = false;
+};
+
+struct StampedCovariance {
+  double t;
+  Eigen::Matrix3d c;
+};
+
+std::vector<StampedCovariance> load_covariances(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw IoError(path + ": cannot open");
+  std::vector<StampedCovariance> out;
+  std::string line;
+  std::size_t n = 0;
+  while (std::getline(in, line)) {
+    ++n;
+    if (n == 1) {
+      if (line.rfind("t,xx,xy,xt,yy,yt,tt", 0) != 0) {
+        throw FormatError(path, n, "expected the header t,xx,xy,xt,yy,yt,tt");
+      }
+      continue;
+    }
+    if (line.empty()) continue;
+    // strtod, not operator>>: rows without a covariance hold `nan`.
+    double v[7];
+    const char* p = line.c_str();
+    int k = 0;
+    for (; k < 7; ++k) {
+      char* end = nullptr;
+      v[k] = std::strtod(p, &end);
+      if (end == p || (k < 6 && *end != ',') || (k == 6 && *end != '\0' && *end != '\r')) break;
+      p = end + 1;
+    }
+    if (k < 7 || !std::isfinite(v[0])) {
+      throw FormatError(path, n, "expected 7 numbers t,xx,xy,xt,yy,yt,tt (nan allowed but for t)");
+    }
+    const double t = v[0], xx = v[1], xy = v[2], xt = v[3], yy = v[4], yt = v[5], tt = v[6];
+    Eigen::Matrix3d c;
+    c << xx, xy, xt, xy, yy, yt, xt, yt, tt;
+    out.push_back({t, c});
+  }
+  return out;
+}
+
+std::string stats_json(const eval::ErrorStatistics& s) {
+  char b[256];
+  std::snprintf(b, sizeof b,
+                "{\"count\": %zu, \"rmse\": %.9g, \"mean\": %.9g, \"median\": %.9g, \"std\": %.9g, "
+                "\"max\": %.9g}",
+                s.count, s.rmse, s.mean, s.median, s.std, s.max);
+  return b;
+}
+
+void print_stats(const char* name, const eval::ErrorStatistics& s, double scale, const char* unit) {
+  std::printf("  %-28s rmse %.4f  mean %.4f  median %.4f  std %.4f  max %.4f %s (n = %zu)\n", name,
+              s.rmse * scale, s.mean * scale, s.median * scale, s.std * scale, s.max * scale, unit,
+              s.count);
+}
+
+void run_eval(const EvalArgs& a) {
+  if (a.relations.empty() && a.reference.empty()) {
+    throw ConfigError("vdtnav eval: give --relations REL, --reference REF.tum, or both");
+  }
+  const eval::Trajectory2 est = load_trajectory2(a.traj);
+  std::ostringstream js;
+  js << "{\n  \"trajectory\": \"" << a.traj << "\",\n  \"poses\": " << est.size();
+  std::printf("trajectory %s: %zu poses\n", a.traj.c_str(), est.size());
+
+  if (!a.relations.empty()) {
+    const std::vector<Relation> rels = load_relations(a.relations).relations;
+    eval::RelationMetricOptions ro;
+    ro.stamp_tolerance = a.stamp_tolerance;
+    ro.interpolate = a.max_gap > 0.0;
+    ro.max_gap = a.max_gap;
+    const eval::RelationMetricResult m = eval::relation_metric(est, rels, ro);
+    std::printf("relations %s: %zu used of %zu (skipped: %zu no stamp within %.3f s, %zu outside "
+                "the trajectory, %zu in gaps > %.3f s)\n",
+                a.relations.c_str(), m.used, rels.size(), m.skipped_no_stamp, a.stamp_tolerance,
+                m.skipped_outside, m.skipped_in_gap, a.max_gap);
+    if (m.ok()) {
+      std::printf("  translational error  %.4f +- %.4f m     squared %.6f +- %.6f m^2\n",
+                  m.translation.mean, m.translation.std, m.translation_squared.mean,
+                  m.translation_squared.std);
+      std::printf("  rotational error     %.4f +- %.4f deg   squared %.6f +- %.6f deg^2\n",
+                  m.rotation.mean * kRadToDeg, m.rotation.std * kRadToDeg,
+                  m.rotation_squared.mean * kRadToDeg * kRadToDeg,
+                  m.rotation_squared.std * kRadToDeg * kRadToDeg);
+    }
+    char b[768];
+    std::snprintf(b, sizeof b,
+                  ",\n  \"relations\": {\"file\": \"%s\", \"total\": %zu, \"used\": %zu, "
+                  "\"skipped_no_stamp\": %zu, \"skipped_outside\": %zu, \"skipped_in_gap\": %zu, "
+                  "\"trans_mean_m\": %.9g, \"trans_std_m\": %.9g, \"trans2_mean_m2\": %.9g, "
+                  "\"trans2_std_m2\": %.9g, \"rot_mean_deg\": %.9g, \"rot_std_deg\": %.9g, "
+                  "\"rot2_mean_deg2\": %.9g, \"rot2_std_deg2\": %.9g}",
+                  a.relations.c_str(), rels.size(), m.used, m.skipped_no_stamp, m.skipped_outside,
+                  m.skipped_in_gap, m.translation.mean, m.translation.std,
+                  m.translation_squared.mean, m.translation_squared.std,
+                  m.rotation.mean * kRadToDeg, m.rotation.std * kRadToDeg,
+                  m.rotation_squared.mean * kRadToDeg * kRadToDeg,
+                  m.rotation_squared.std * kRadToDeg * kRadToDeg);
+    js << b;
+  }
+
+  if (!a.reference.empty()) {
+    const eval::Trajectory2 ref = load_trajectory2(a.reference);
+    eval::AteOptions ao;
+    ao.max_time_difference = a.match_tolerance;
+    const eval::AteResult ate = eval::absolute_trajectory_error(est, ref, ao);
+    eval::RpeOptions rpo;
+    rpo.delta = a.rpe_delta;
+    rpo.max_time_difference = a.match_tolerance;
+    const eval::RpeResult rpe = eval::relative_pose_error(est, ref, rpo);
+    std::printf("reference %s: %zu poses, %zu matched within %.3f s\n", a.reference.c_str(),
+                ref.size(), ate.matches.size(), a.match_tolerance);
+    if (ate.ok()) {
+      print_stats("ATE translation (aligned)", ate.translation, 1.0, "m");
+      print_stats("ATE rotation (aligned)", ate.rotation, kRadToDeg, "deg");
+      print_stats("ATE translation (unaligned)", ate.unaligned_translation, 1.0, "m");
+      print_stats("ATE rotation (unaligned)", ate.unaligned_rotation, kRadToDeg, "deg");
+    }
+    if (rpe.ok()) {
+      print_stats("RPE translation", rpe.translation, 1.0, "m");
+      print_stats("RPE rotation", rpe.rotation, kRadToDeg, "deg");
+    }
+    js << ",\n  \"reference\": {\"file\": \"" << a.reference << "\", \"matched\": "
+       << ate.matches.size() << ", \"ate_aligned_trans_m\": " << stats_json(ate.translation)
+       << ", \"ate_aligned_rot_rad\": " << stats_json(ate.rotation)
+       << ", \"ate_trans_m\": " << stats_json(ate.unaligned_translation)
+       << ", \"ate_rot_rad\": " << stats_json(ate.unaligned_rotation)
+       << ", \"rpe_frames\": " << a.rpe_delta << ", \"rpe_trans_m\": " << stats_json(rpe.translation)
+       << ", \"rpe_rot_rad\": " << stats_json(rpe.rotation) << "}";
+
+    std::vector<double> nees_values;
+    std::vector<double> t_plot;
+    std::vector<Eigen::Vector3d> err_plot, sig_plot;
+    std::vector<StampedCovariance> covs;
+    if (!a.cov.empty()) covs = load_covariances(a.cov);
+    std::size_t ci = 0;
+    for (const auto& m : ate.matches) {
+      const eval::StampedPose2& e = est[m.estimate];
+      const Eigen::Vector3d err = pose_error(e.pose, ref[m.reference].pose);
+      t_plot.push_back(e.t - est.front().t);
+      err_plot.push_back(err);
+      if (!covs.empty()) {
+        while (ci < covs.size() && covs[ci].t < e.t - a.match_tolerance) ++ci;
+        if (ci < covs.size() && std::abs(covs[ci].t - e.t) <= a.match_tolerance &&
+            covs[ci].c.allFinite()) {
+          nees_values.push_back(eval::nees(e.pose, ref[m.reference].pose, covs[ci].c));
+          sig_plot.push_back(2.0 * covs[ci].c.diagonal().cwiseSqrt());
+        } else {
+          sig_plot.push_back(Eigen::Vector3d::Constant(std::nan("")));
+        }
+      }
+    }
+    if (!a.cov.empty()) {
+      const eval::AneesResult an = eval::anees(nees_values, 3);
+      std::printf("NEES (%s against the reference): ANEES %.3f, 95%% interval [%.3f, %.3f] over %zu "
+                  "poses: %s\n",
+                  a.cov.c_str(), an.anees, an.interval.lower, an.interval.upper, an.count,
+                  an.count == 0              ? "no covariance matched"
+                  : an.consistent            ? "consistent"
+                  : an.anees > an.interval.upper ? "over-confident"
+                                                 : "conservative");
+      char b[256];
+      std::snprintf(b, sizeof b,
+                    ",\n  \"nees\": {\"file\": \"%s\", \"count\": %zu, \"anees\": %.9g, \"lo\": "
+                    "%.9g, \"hi\": %.9g}",
+                    a.cov.c_str(), an.count, an.anees, an.interval.lower, an.interval.upper);
+      js << b;
+    }
+    if (!a.plot.empty() && !err_plot.empty()) {
+      plot_errors(a.plot + "_errors.png", t_plot, err_plot, sig_plot,
+                  "error against " + a.reference + " (unaligned)");
+      std::printf("wrote %s_errors.png\n", a.plot.c_str());
+    }
+  }
+  js << "\n}\n";
+  if (a.json) std::printf("%s", js.str().c_str());
+  if (!a.json_path.empty()) {
+    std::ofstream f(a.json_path);
+    if (!f) throw IoError(a.json_path + ": cannot open for writing");
+    f << js.str();
+  }
+}
+
+}  // namespace
+
+void add_eval_command(CLI::App& app) {
+  auto args = std::make_shared<EvalArgs>();
+  CLI::App* cmd = app.add_subcommand(
+      "eval", "Evaluate a trajectory against benchmark relations and/or a reference trajectory");
+  cmd->add_option("--traj", args->traj, "Estimated trajectory (TUM)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--relations", args->relations, "Kuemmerle relations file (t1 t2 x y z r p y)")
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--reference", args->reference, "Reference trajectory (TUM)")
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--cov", args->cov, "Covariances (CSV t,xx,xy,xt,yy,yt,tt): NEES vs --reference")
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--max-gap", args->max_gap,
+                  "Interpolate the estimate at relation ends only inside gaps up to S seconds "
+                  "(0: exact stamps only)")
+      ->capture_default_str();
+  cmd->add_option("--stamp-tolerance", args->stamp_tolerance,
+                  "Seconds within which an estimate counts as taken at a relation's stamp "
+                  "(the Kuemmerle stamps are exact to the microsecond)")
+      ->capture_default_str();
+  cmd->add_option("--match-tolerance", args->match_tolerance,
+                  "Seconds within which an estimate is matched to a --reference pose or a --cov row")
+      ->capture_default_str();
+  cmd->add_option("--rpe-delta", args->rpe_delta, "RPE pair spacing, frames")->capture_default_str();
+  cmd->add_flag("--json", args->json, "Also print the results as JSON");
+  cmd->add_option("--json-out", args->json_path, "Write the JSON to this file");
+  cmd->add_option("--plot", args->plot, "Figure prefix: PREFIX_errors.png (needs --reference)");
+  cmd->callback([args] { run_eval(*args); });
+}
+
+}  // namespace vdtnav::tools

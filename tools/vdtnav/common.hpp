@@ -1,0 +1,54 @@
+#pragma once
+/// \file
+/// \brief What the `vdtnav` subcommands share: the map a localizer runs on, trajectories as 2D
+/// stamped poses, time windows, and the subcommand registry.
+
+#include <CLI/CLI.hpp>
+
+#include <limits>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "vdtnav/eval/trajectory_metrics.hpp"
+#include "vdtnav/io/carmen_log.hpp"
+#include "vdtnav/io/ros_map.hpp"
+#include "vdtnav/map/vdt_map.hpp"
+
+namespace vdtnav::tools {
+
+/// \brief A ROS map with the grids the localizers need.
+struct LoadedMap {
+  RosMap ros;
+  OccupancyGrid<2> occupancy;
+  std::unique_ptr<VdtMap2> vdt;
+  double build_seconds = 0.0;  ///< time to build the VDT map
+};
+
+/// \brief Loads MAP.yaml and builds its VDT map. \throws vdtnav::Error.
+[[nodiscard]] LoadedMap load_map(const std::string& yaml_path);
+
+/// \brief Parses "x,y,yaw". \throws ConfigError naming `what`.
+[[nodiscard]] Pose2 parse_pose(const std::string& text, const std::string& what);
+
+/// \brief A TUM file as a planar trajectory (z, roll and pitch ignored).
+[[nodiscard]] eval::Trajectory2 load_trajectory2(const std::string& tum_path);
+
+/// \brief A time window [from, to] (inclusive); unset ends are open.
+struct TimeWindow {
+  double from = -std::numeric_limits<double>::infinity();
+  double to = std::numeric_limits<double>::infinity();
+  [[nodiscard]] bool contains(double t) const noexcept { return t >= from && t <= to; }
+  void add_options(CLI::App& app);
+};
+
+/// \brief Indices of the log's laser messages inside the window.
+[[nodiscard]] std::vector<std::size_t> scans_in(const CarmenLog& log, const TimeWindow& window);
+
+/// \brief Adds each subcommand to the application.
+void add_map_command(CLI::App& app);
+void add_localize_command(CLI::App& app);
+void add_eval_command(CLI::App& app);
+void add_join_odometry_command(CLI::App& app);
+
+}  // namespace vdtnav::tools

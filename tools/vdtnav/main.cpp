@@ -1,0 +1,36 @@
+// vdtnav: the command-line tool. Build maps from logs, localize logs on maps with any of the
+// five methods, and evaluate trajectories against relations or reference trajectories.
+//   vdtnav map       --log LOG --resolution R --out PREFIX [--from T0 --to T1]
+//   vdtnav localize  --map MAP.yaml --log LOG --method M [--init x,y,yaw] --out TRAJ.tum
+//                    [--cov COV.csv] [--from T0 --to T1] [--plot PREFIX]
+//   vdtnav eval      --traj TRAJ.tum (--relations REL | --reference REF.tum) [--cov COV.csv]
+//                    [--max-gap S] [--json]
+//   vdtnav join-odometry  (the Intel lab converter; see `vdtnav join-odometry --help`)
+#include <CLI/CLI.hpp>
+
+#include <cstdio>
+#include <exception>
+
+#include "common.hpp"
+#include "vdtnav/core/error.hpp"
+
+int main(int argc, char** argv) {
+  CLI::App app{"vdtnav: robot localization on Vector Distance Transform maps"};
+  app.require_subcommand(1);
+  vdtnav::tools::add_map_command(app);
+  vdtnav::tools::add_localize_command(app);
+  vdtnav::tools::add_eval_command(app);
+  vdtnav::tools::add_join_odometry_command(app);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  } catch (const vdtnav::Error& e) {
+    std::fprintf(stderr, "vdtnav: error: %s\n", e.what());
+    return 1;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "vdtnav: error: %s\n", e.what());
+    return 1;
+  }
+  return 0;
+}
