@@ -150,9 +150,7 @@ int main(int argc, char** argv) {
       r.scans = split;
       rows.push_back(r);
     }
-    LocalizerSettings settings;
-    settings.vdt_ekf.motion = MotionModelKind::kOdometryIncrement;
-    settings.udt.motion = MotionModelKind::kOdometryIncrement;
+    const LocalizerSettings settings = log_settings();
     const Eigen::Matrix3d p0 = Eigen::Vector3d(0.1 * 0.1, 0.1 * 0.1, 0.05 * 0.05).asDiagonal();
     for (const std::string& method : methods) {
       std::unique_ptr<Localizer2D> loc = make_localizer(method, vdt, map.occupancy, settings);

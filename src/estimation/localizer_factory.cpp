@@ -9,6 +9,17 @@ const std::vector<std::string>& localizer_methods() {
   return kMethods;
 }
 
+LocalizerSettings log_settings() {
+  LocalizerSettings s;
+  s.vdt_ekf.motion = MotionModelKind::kOdometryIncrement;
+  s.udt.motion = MotionModelKind::kOdometryIncrement;
+  s.vdt_opt.loss = RobustLoss::kCauchy;
+  s.vdt_opt.loss_scale = 0.05;
+  s.vdt_opt.search.search_below = 0.95;
+  s.vdt_opt.max_iterations = 50;
+  return s;
+}
+
 std::unique_ptr<Localizer2D> make_localizer(const std::string& method, const VdtMap2& vdt,
                                             const OccupancyGrid<2>& occupancy,
                                             const LocalizerSettings& settings) {

@@ -569,17 +569,20 @@ template class VdtOptimizerT<3>;
 VdtOptimizationLocalizer::VdtOptimizationLocalizer(const VdtMap2& map,
                                                    const VdtOptimizerOptions& options,
                                                    std::string name)
-    : optimizer_(map, options), name_(std::move(name)) {}
+    : optimizer_(map, options), local_(options.bridge), name_(std::move(name)) {}
 
 void VdtOptimizationLocalizer::reset(const Pose2& pose, const Eigen::Matrix3d& covariance) {
   pose_ = pose;
   uncertainty_ = covariance;
+  local_.clear();
+  in_gap_ = false;
 }
 
 LocalizationResult VdtOptimizationLocalizer::update(const OdometryStep& odometry,
                                                     const LaserScan& scan) {
   const GuessSearchOptions& so = optimizer_.options().search;
   Pose2 guess = pose_;  // UPDATEGUESS: X (+) odometry, its uncertainty propagated alongside
+  const Eigen::Matrix3d previous_uncertainty = uncertainty_;
   ekf_predict(MotionModelKind::kOdometryIncrement, so.odometry_noise, odometry, guess,
               uncertainty_);
   const ScanPoints pts = scan_points(scan);
@@ -592,28 +595,51 @@ LocalizationResult VdtOptimizationLocalizer::update(const OdometryStep& odometry
       usable(r) ? explained_fraction(optimizer_.sensor_model(), pts, r.pose, so.explained_distance)
                 : 0.0;
   if (so.enabled && explained < so.search_below) {
-    // A poor fit: solve again from the best pose of a window around the guess, keep the better.
-    const Pose2 start = search_guess(optimizer_.sensor_model(), pts, guess, so, &uncertainty_);
-    LocalizationResult r2 = optimizer_.solve(pts, start);
-    const double e2 = usable(r2) ? explained_fraction(optimizer_.sensor_model(), pts, r2.pose,
-                                                      so.explained_distance)
-                                 : 0.0;
-    r2.iterations += r.iterations;
-    if (e2 > explained) {
-      r = r2;
-      explained = e2;
+    // A poor fit: solve again from the best pose of a window around the guess, keep the better
+    // (when the guess itself is the best candidate, the solve would repeat the first one).
+    const VdtSensorModel& model = optimizer_.sensor_model();
+    const Pose2 start = search_guess(model, pts, guess, so, &uncertainty_);
+    if (start != guess) {
+      LocalizationResult r2 = optimizer_.solve(pts, start);
+      const double e2 =
+          usable(r2) ? explained_fraction(model, pts, r2.pose, so.explained_distance) : 0.0;
+      r2.iterations += r.iterations;
+      if (e2 > explained) {
+        r = r2;
+        explained = e2;
+      }
     }
   }
-  if (usable(r) && (!so.enabled || explained >= so.accept_fraction)) {
+  // Back from a gap of the map, a partial match far from where the recent scans place the robot
+  // is often a wrong one: re-entry then asks for more of the scan explained. "Far": outside the
+  // 99 % region of the propagated uncertainty (chi-square, 3 dof: 11.34).
+  double accept = so.accept_fraction;
+  if (in_gap_ && usable(r)) {
+    const Eigen::Vector3d e = pose_error(r.pose, guess);
+    const Eigen::Matrix3d p = uncertainty_ + Eigen::Vector3d(1e-4, 1e-4, 1e-4).asDiagonal().toDenseMatrix();
+    if (e.dot(p.ldlt().solve(e)) > 11.34) accept = std::max(accept, so.reentry_fraction);
+  }
+  if (usable(r) && (!so.enabled || explained >= accept)) {
     pose_ = r.pose;
     uncertainty_ = r.has_covariance ? r.covariance : Eigen::Matrix3d::Zero();
+    in_gap_ = false;
   } else {
-    // Nothing usable, or the map does not explain the scan: keep the odometry guess.
+    // Nothing usable, or the map does not explain the scan: match it against the recent scans,
+    // else keep the odometry guess. Either way it is not a localization on the map.
     if (usable(r)) r.status = LocalizationStatus::kNotConverged;
     r.has_covariance = false;
-    pose_ = guess;
-    r.pose = guess;
+    const std::optional<Pose2> bridged =
+        local_.match(pts, guess, optimizer_.options(), so.explained_distance);
+    pose_ = bridged ? *bridged : guess;
+    r.pose = pose_;
+    in_gap_ = true;
+    if (bridged) {
+      // Scan matching drifts far less than dead reckoning: a fraction of the odometry's growth.
+      const double f = optimizer_.options().bridge.uncertainty_growth;
+      uncertainty_ = previous_uncertainty + f * (uncertainty_ - previous_uncertainty);
+    }
   }
+  local_.add(pts, pose_);
   return r;
 }
 

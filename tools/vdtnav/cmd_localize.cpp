@@ -64,9 +64,7 @@ void run_localize(const LocalizeArgs& a) {
 
   const Pose2 init = a.init.empty() ? log.lasers[idx.front()].pose : parse_pose(a.init, "--init");
   const Pose2 sig = parse_pose(a.init_sigma, "--init-sigma");
-  LocalizerSettings settings;
-  settings.vdt_ekf.motion = MotionModelKind::kOdometryIncrement;
-  settings.udt.motion = MotionModelKind::kOdometryIncrement;
+  const LocalizerSettings settings = log_settings();
   std::unique_ptr<Localizer2D> loc = make_localizer(a.method, *map.vdt, map.occupancy, settings);
   loc->reset(init, Eigen::Vector3d(sig[0] * sig[0], sig[1] * sig[1], sig[2] * sig[2]).asDiagonal());
 

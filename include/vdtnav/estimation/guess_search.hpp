@@ -34,11 +34,17 @@ struct GuessSearchOptions {
   /// Accept a solution only when it explains at least this fraction; otherwise the localizer
   /// keeps its prediction (status kNotConverged).
   double accept_fraction = 0.4;
+  /// After refused updates (the robot in a gap of the map), accept a solution only when it
+  /// explains at least this fraction: partial matches on re-entry are often wrong ones.
+  double reentry_fraction = 0.7;
   double window_xy = 0.2;   ///< metres, half-width of the window in x and y
   double window_yaw = 0.2;  ///< radians, half-width in yaw
   int steps_xy = 3;         ///< candidates per axis in x and y (odd)
   int steps_yaw = 9;        ///< candidates in yaw (odd)
   double truncation = 0.25;  ///< tau, metres
+  /// Candidates are scored on every k-th beam, k chosen so that at most this many are used
+  /// (0: all).
+  std::size_t max_beams = 200;
   /// The window's half-widths grow to this many standard deviations of the prediction's
   /// covariance when that exceeds window_xy / window_yaw, up to max_window_xy / max_window_yaw,
   /// with the candidate spacing of the base window.
@@ -61,7 +67,7 @@ struct GuessSearchOptions {
                                    const Pose2& pose, double tau);
 
 /// \return the candidate of the window around `guess` (the guess included) with the lowest
-/// truncated VCD. With `covariance` (of the guess), the window grows to window_sigmas standard
+/// truncated VCD (over at most options.max_beams beams). With `covariance` (of the guess), the window grows to window_sigmas standard
 /// deviations (see GuessSearchOptions).
 [[nodiscard]] Pose2 search_guess(const VdtSensorModel& model, const ScanPoints& scan,
                                  const Pose2& guess, const GuessSearchOptions& options,

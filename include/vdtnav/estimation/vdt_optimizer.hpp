@@ -26,6 +26,7 @@
 
 #include "vdtnav/core/traits.hpp"
 #include "vdtnav/estimation/guess_search.hpp"
+#include "vdtnav/estimation/local_scan_map.hpp"
 #include "vdtnav/estimation/localizer.hpp"
 #include "vdtnav/sensor/vdt_sensor_model.hpp"
 
@@ -74,6 +75,9 @@ struct VdtOptimizerOptions {
   /// solve from the best pose of a window search around the guess and keep the better; refuse a
   /// solution that leaves the scan unexplained (the guess is kept, status kNotConverged).
   GuessSearchOptions search;
+  /// 2D localizer only: when the map does not explain a scan, match it against the recent scans
+  /// instead of keeping the bare odometry guess (see local_scan_map.hpp).
+  LocalScanMapOptions bridge;
 };
 
 /// \brief Algorithm 1's OPTIMIZE: one observation set against the map from an initial guess
@@ -143,6 +147,8 @@ class VdtOptimizationLocalizer final : public Localizer2D {
   /// with the odometry noise of options().search while updates are refused; it sizes the
   /// window search (guess_search.hpp).
   Eigen::Matrix3d uncertainty_ = Eigen::Matrix3d::Zero();
+  LocalScanMap local_;  ///< the recent scans, for the gaps of the map
+  bool in_gap_ = false;  ///< the last update was refused (the map did not explain its scan)
   std::string name_;
 };
 
