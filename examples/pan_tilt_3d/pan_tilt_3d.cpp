@@ -30,6 +30,7 @@
 
 #include "vdtnav/core/error.hpp"
 #include "vdtnav/core/pose3.hpp"
+#include "vdtnav/estimation/multi_start.hpp"
 #include "vdtnav/estimation/vdt_optimizer.hpp"
 #include "vdtnav/map/vdt_map.hpp"
 #include "vdtnav/sensor/observation_set.hpp"
@@ -471,6 +472,11 @@ int main(int argc, char** argv) {
   app.add_option("--max-iterations", opt.max_iterations, "optimizer iterations per Ceres solve")
       ->capture_default_str()
       ->check(CLI::Range(1, 10000));
+  MultiStartOptions multi_start;
+  bool single_start = false;
+  app.add_flag("--single-start", single_start,
+               "one solve from the guess, as the thesis (default: more starts when the solution "
+               "leaves readings unexplained, see estimation/multi_start.hpp)");
   app.add_flag("--verbose", verbose, "list every unsuccessful trial on stderr");
   app.add_option("--threads", threads, "worker threads")
       ->capture_default_str()
@@ -565,6 +571,7 @@ int main(int argc, char** argv) {
     std::fflush(stdout);
 
     // ---------------------------------------------------------------- trials
+    multi_start.enabled = !single_start;
     opt.four_dof = four_dof;
     opt.loss = loss == "huber"    ? RobustLoss::kHuber
                : loss == "cauchy" ? RobustLoss::kCauchy
@@ -597,7 +604,7 @@ int main(int argc, char** argv) {
             for (std::size_t c = 0; c < kScenarios.size(); ++c) {
               const Pose3 guess = initial_guess(truth, kScenarios[c], four_dof);
               const auto t0 = Clock::now();
-              const LocalizationResult3 r = optimizer.solve(obs, guess);
+              const LocalizationResult3 r = solve_multi_start(optimizer, obs, guess, multi_start);
               Trial& t = trials[job][c * kFactors.size() + f];
               t.ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
               t.status = r.status;

@@ -1,0 +1,90 @@
+#include "vdtnav/estimation/multi_start.hpp"
+
+#include <algorithm>
+#include <limits>
+
+namespace vdtnav {
+
+double explained_fraction(const VdtSensorModel3& model, const ObservationSet<3>& observations,
+                          const Pose3& pose, double distance) {
+  if (observations.size() == 0) return 0.0;
+  const Eigen::Matrix3d r = pose.linear();
+  const Eigen::Vector3d t = pose.translation();
+  const double d2 = distance * distance;
+  std::size_t n = 0;
+  for (const Eigen::Vector3d& p : observations.points) {
+    bool inlier = false;
+    const Eigen::Vector3d d = model.disparity_value(r, t, p, &inlier);
+    n += inlier && d.squaredNorm() < d2;
+  }
+  return static_cast<double>(n) / static_cast<double>(observations.size());
+}
+
+double truncated_vcd(const VdtSensorModel3& model, const ObservationSet<3>& observations,
+                     const Pose3& pose, double tau) {
+  const Eigen::Matrix3d r = pose.linear();
+  const Eigen::Vector3d t = pose.translation();
+  const double t2 = tau * tau;
+  double sum = 0.0;
+  for (const Eigen::Vector3d& p : observations.points) {
+    bool inlier = false;
+    const Eigen::Vector3d d = model.disparity_value(r, t, p, &inlier);
+    sum += inlier ? std::min(d.squaredNorm(), t2) : t2;
+  }
+  return sum;
+}
+
+LocalizationResult3 solve_multi_start(const VdtOptimizer3& optimizer,
+                                      const ObservationSet<3>& observations, const Pose3& guess,
+                                      const MultiStartOptions& o) {
+  const VdtSensorModel3& model = optimizer.sensor_model();
+  const auto usable = [](const LocalizationResult3& x) {
+    return x.status == LocalizationStatus::kConverged ||
+           x.status == LocalizationStatus::kNotConverged;
+  };
+  const bool try_all = observations.size() < o.all_starts_below;
+  const auto good_enough = [&](const LocalizationResult3& x) {
+    return !try_all && usable(x) &&
+           explained_fraction(model, observations, x.pose, o.explained_distance) >=
+               o.accept_fraction;
+  };
+  // A solve that stopped at its iteration limit is continued from where it stopped, once: far
+  // from the guess the fine solve can need more than one budget of steps (CATEC, scenario C).
+  const auto solve = [&](const Pose3& start) {
+    LocalizationResult3 r = optimizer.solve(observations, start);
+    if (r.status != LocalizationStatus::kNotConverged) return r;
+    LocalizationResult3 more = optimizer.solve(observations, r.pose);
+    more.iterations += r.iterations;
+    return usable(more) ? more : r;
+  };
+  LocalizationResult3 best = o.enabled ? solve(guess) : optimizer.solve(observations, guess);
+  if (!o.enabled || good_enough(best)) return best;
+  double best_score = usable(best) ? truncated_vcd(model, observations, best.pose, o.truncation)
+                                   : std::numeric_limits<double>::infinity();
+  int iterations = best.iterations;
+  // The estimated axes of the left perturbation (dt, dtheta): all six, or x, y, z, yaw.
+  const bool four_dof = optimizer.options().four_dof;
+  for (int axis = 0; axis < 6; ++axis) {
+    if (four_dof && (axis == 3 || axis == 4)) continue;
+    for (const double sign : {1.0, -1.0}) {
+      Vector6d delta = Vector6d::Zero();
+      delta[axis] = sign * (axis < 3 ? o.offset_translation : o.offset_rotation);
+      LocalizationResult3 r = solve(oplus(guess, delta));
+      iterations += r.iterations;
+      if (!usable(r)) continue;
+      const double score = truncated_vcd(model, observations, r.pose, o.truncation);
+      if (score < best_score || !usable(best)) {
+        best = r;
+        best_score = score;
+        if (good_enough(best)) {
+          best.iterations = iterations;
+          return best;
+        }
+      }
+    }
+  }
+  best.iterations = iterations;
+  return best;
+}
+
+}  // namespace vdtnav
