@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <limits>
+#include <random>
 
 namespace vdtnav {
 
@@ -80,6 +81,27 @@ LocalizationResult3 solve_multi_start(const VdtOptimizer3& optimizer,
           best.iterations = iterations;
           return best;
         }
+      }
+    }
+  }
+  // Sparse sets: hops from the best solution so far, uniform in +-offset per axis, each solve
+  // kept when it lowers the score. A fixed seed keeps the result a function of the input.
+  if (try_all && o.hops > 0) {
+    std::mt19937 rng(o.hop_seed);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    for (int h = 0; h < o.hops; ++h) {
+      Vector6d delta = Vector6d::Zero();
+      for (int axis = 0; axis < 6; ++axis) {
+        if (four_dof && (axis == 3 || axis == 4)) continue;
+        delta[axis] = u(rng) * (axis < 3 ? o.offset_translation : o.offset_rotation);
+      }
+      LocalizationResult3 r = solve(oplus(usable(best) ? best.pose : guess, delta));
+      iterations += r.iterations;
+      if (!usable(r)) continue;
+      const double score = truncated_vcd(model, observations, r.pose, o.truncation);
+      if (score < best_score || !usable(best)) {
+        best = r;
+        best_score = score;
       }
     }
   }
