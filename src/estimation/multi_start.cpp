@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <limits>
 #include <random>
+#include <utility>
 
 namespace vdtnav {
 
@@ -63,6 +64,17 @@ LocalizationResult3 solve_multi_start(const VdtOptimizer3& optimizer,
   double best_score = usable(best) ? truncated_vcd(model, observations, best.pose, o.truncation)
                                    : std::numeric_limits<double>::infinity();
   int iterations = best.iterations;
+  // Solves from `start`; keeps the solution if it scores lower. \return true if it was kept.
+  const auto try_start = [&](const Pose3& start) {
+    LocalizationResult3 r = solve(start);
+    iterations += r.iterations;
+    if (!usable(r)) return false;
+    const double score = truncated_vcd(model, observations, r.pose, o.truncation);
+    if (score >= best_score && usable(best)) return false;
+    best = std::move(r);
+    best_score = score;
+    return true;
+  };
   // The estimated axes of the left perturbation (dt, dtheta): all six, or x, y, z, yaw.
   const bool four_dof = optimizer.options().four_dof;
   for (int axis = 0; axis < 6; ++axis) {
@@ -70,17 +82,9 @@ LocalizationResult3 solve_multi_start(const VdtOptimizer3& optimizer,
     for (const double sign : {1.0, -1.0}) {
       Vector6d delta = Vector6d::Zero();
       delta[axis] = sign * (axis < 3 ? o.offset_translation : o.offset_rotation);
-      LocalizationResult3 r = solve(oplus(guess, delta));
-      iterations += r.iterations;
-      if (!usable(r)) continue;
-      const double score = truncated_vcd(model, observations, r.pose, o.truncation);
-      if (score < best_score || !usable(best)) {
-        best = r;
-        best_score = score;
-        if (good_enough(best)) {
-          best.iterations = iterations;
-          return best;
-        }
+      if (try_start(oplus(guess, delta)) && good_enough(best)) {
+        best.iterations = iterations;
+        return best;
       }
     }
   }
@@ -95,14 +99,7 @@ LocalizationResult3 solve_multi_start(const VdtOptimizer3& optimizer,
         if (four_dof && (axis == 3 || axis == 4)) continue;
         delta[axis] = u(rng) * (axis < 3 ? o.offset_translation : o.offset_rotation);
       }
-      LocalizationResult3 r = solve(oplus(usable(best) ? best.pose : guess, delta));
-      iterations += r.iterations;
-      if (!usable(r)) continue;
-      const double score = truncated_vcd(model, observations, r.pose, o.truncation);
-      if (score < best_score || !usable(best)) {
-        best = r;
-        best_score = score;
-      }
+      (void)try_start(oplus(usable(best) ? best.pose : guess, delta));
     }
   }
   best.iterations = iterations;
