@@ -104,7 +104,8 @@ int main(int argc, char** argv) {
     const std::size_t split = n - n / 3;  // the last third maps, the first two thirds localize
     save_carmen_log(out + "/intel_raw.log", logs.raw);
     std::vector<StampedPose3> reference_tum;
-    for (const auto& l : logs.corrected.lasers) reference_tum.push_back({l.time, pose3_from_pose2(l.pose)});
+    for (const auto& l : logs.corrected.lasers)
+      reference_tum.push_back({l.time, pose3_from_pose2(l.pose)});
     save_tum_trajectory(out + "/intel_corrected.tum", reference_tum);
 
     // 2. The map from the corrected poses of scans split..n-1.
@@ -121,10 +122,11 @@ int main(int argc, char** argv) {
     const auto tb = Clock::now();
     const VdtMap2 vdt = VdtMap2::build(map.occupancy);
     const double build_s = std::chrono::duration<double>(Clock::now() - tb).count();
-    std::printf("[intel] map from scans %zu..%zu (t = %.1f..%.1f): %d x %d cells of %.2f m, VDT "
-                "built in %.3f s -> %s/intel_map.yaml\n",
-                split, n - 1, logs.raw.lasers[split].time, logs.raw.lasers[n - 1].time,
-                map.cells.size().x(), map.cells.size().y(), resolution, build_s, out.c_str());
+    std::printf(
+        "[intel] map from scans %zu..%zu (t = %.1f..%.1f): %d x %d cells of %.2f m, VDT "
+        "built in %.3f s -> %s/intel_map.yaml\n",
+        split, n - 1, logs.raw.lasers[split].time, logs.raw.lasers[n - 1].time,
+        map.cells.size().x(), map.cells.size().y(), resolution, build_s, out.c_str());
 
     // 3. Localize scans 0..split-1 with the raw odometry.
     std::vector<std::size_t> idx(split);
@@ -186,11 +188,11 @@ int main(int argc, char** argv) {
       std::vector<StampedPose3> tum;
       for (const auto& s : est) tum.push_back({s.t, pose3_from_pose2(s.pose)});
       save_tum_trajectory(out + "/traj_" + method + ".tum", tum);
-      std::printf("[intel] %-8s relations %zu: %.4f m / %.3f deg, ATE %.4f m, lost %zu, %.3f ms "
-                  "per scan, %.3f s wall\n",
-                  method.c_str(), r.rel.used, r.rel.translation.mean,
-                  r.rel.rotation.mean * kRadToDeg, r.ate.unaligned_translation.rmse, r.lost,
-                  r.ms_mean, r.wall_s);
+      std::printf(
+          "[intel] %-8s relations %zu: %.4f m / %.3f deg, ATE %.4f m, lost %zu, %.3f ms "
+          "per scan, %.3f s wall\n",
+          method.c_str(), r.rel.used, r.rel.translation.mean, r.rel.rotation.mean * kRadToDeg,
+          r.ate.unaligned_translation.rmse, r.lost, r.ms_mean, r.wall_s);
       rows.push_back(std::move(r));
     }
 
@@ -210,19 +212,19 @@ int main(int argc, char** argv) {
     for (const Row& r : rows) {
       char b[1024];
       const bool loc = r.ate.ok();
-      std::snprintf(b, sizeof b,
-                    "%s,%zu,%.6f,%.6f,%.4f,%.4f,%.8f,%.6f,%.6f,%.6f,%.4f,%.6f,%.4f,%zu,%zu,%d,%.4f,"
-                    "%.4f,%.4f,%.4f,%.4f,%.4f\n",
-                    r.method.c_str(), r.rel.used, r.rel.translation.mean, r.rel.translation.std,
-                    r.rel.rotation.mean * kRadToDeg, r.rel.rotation.std * kRadToDeg,
-                    r.rel.translation_squared.mean,
-                    r.rel.rotation_squared.mean * kRadToDeg * kRadToDeg,
-                    loc ? r.ate.unaligned_translation.rmse : 0.0, loc ? r.ate.translation.rmse : 0.0,
-                    loc ? r.ate.unaligned_rotation.rmse * kRadToDeg : 0.0,
-                    r.rpe.ok() ? r.rpe.translation.rmse : 0.0,
-                    r.rpe.ok() ? r.rpe.rotation.rmse * kRadToDeg : 0.0, r.lost, r.scans,
-                    r.has_cov ? 1 : 0, r.anees.anees, r.anees.interval.lower,
-                    r.anees.interval.upper, r.ms_mean, r.ms_max, r.wall_s);
+      std::snprintf(
+          b, sizeof b,
+          "%s,%zu,%.6f,%.6f,%.4f,%.4f,%.8f,%.6f,%.6f,%.6f,%.4f,%.6f,%.4f,%zu,%zu,%d,%.4f,"
+          "%.4f,%.4f,%.4f,%.4f,%.4f\n",
+          r.method.c_str(), r.rel.used, r.rel.translation.mean, r.rel.translation.std,
+          r.rel.rotation.mean * kRadToDeg, r.rel.rotation.std * kRadToDeg,
+          r.rel.translation_squared.mean, r.rel.rotation_squared.mean * kRadToDeg * kRadToDeg,
+          loc ? r.ate.unaligned_translation.rmse : 0.0, loc ? r.ate.translation.rmse : 0.0,
+          loc ? r.ate.unaligned_rotation.rmse * kRadToDeg : 0.0,
+          r.rpe.ok() ? r.rpe.translation.rmse : 0.0,
+          r.rpe.ok() ? r.rpe.rotation.rmse * kRadToDeg : 0.0, r.lost, r.scans, r.has_cov ? 1 : 0,
+          r.anees.anees, r.anees.interval.lower, r.anees.interval.upper, r.ms_mean, r.ms_max,
+          r.wall_s);
       csv << b;
       std::string anees = r.has_cov ? "" : "—";
       if (r.has_cov) {
@@ -232,7 +234,8 @@ int main(int argc, char** argv) {
         anees = a;
       }
       if (!loc) {
-        std::snprintf(b, sizeof b, "| %s | %zu | %.4f ± %.4f | %.3f ± %.3f | — | — | — | — | — | — |\n",
+        std::snprintf(b, sizeof b,
+                      "| %s | %zu | %.4f ± %.4f | %.3f ± %.3f | — | — | — | — | — | — |\n",
                       r.method.c_str(), r.rel.used, r.rel.translation.mean, r.rel.translation.std,
                       r.rel.rotation.mean * kRadToDeg, r.rel.rotation.std * kRadToDeg);
       } else {
@@ -262,8 +265,9 @@ int main(int argc, char** argv) {
         rx.push_back(s.pose[0]);
         ry.push_back(s.pose[1]);
       }
-      ax.line(rx, ry, viz::Style{}.with_color({0, 0, 0}).with_width(2.5).with_dashes().with_label(
-                          "corrected (GMapping)"));
+      ax.line(rx, ry,
+              viz::Style{}.with_color({0, 0, 0}).with_width(2.5).with_dashes().with_label(
+                  "corrected (GMapping)"));
       for (std::size_t k = 1; k < rows.size(); ++k) {
         std::vector<double> xs, ys;
         for (const Pose2& p : rows[k].poses) {
@@ -291,8 +295,11 @@ int main(int argc, char** argv) {
           ys.push_back(q.y());
         }
       }
-      ax.scatter(xs, ys, viz::Style{}.with_color(viz::kColorCycle[1]).with_marker(
-                             viz::Marker::kCircle, 2.0).with_alpha(0.3));
+      ax.scatter(xs, ys,
+                 viz::Style{}
+                     .with_color(viz::kColorCycle[1])
+                     .with_marker(viz::Marker::kCircle, 2.0)
+                     .with_alpha(0.3));
       fig.save_png(out + "/scans_" + r.method + ".png");
 
       viz::Figure ef(1400, 1100, 3, 1);
@@ -309,15 +316,17 @@ int main(int argc, char** argv) {
         }
         viz::Axes& ax2 = ef.axes(c, 0);
         ax2.band(t, lo, hi, viz::Style{}.with_color(viz::kColorCycle[0]).with_label("+-2 sigma"));
-        ax2.line(t, e, viz::Style{}.with_color(viz::kColorCycle[1]).with_width(1.5).with_label("error"));
+        ax2.line(t, e,
+                 viz::Style{}.with_color(viz::kColorCycle[1]).with_width(1.5).with_label("error"));
         ax2.ylabel(names[c]).grid(true);
         if (c == 2) ax2.xlabel("time [s]");
         ax2.legend(c == 0 ? viz::LegendLocation::kUpperRight : viz::LegendLocation::kNone);
       }
       ef.save_png(out + "/errors_" + r.method + ".png");
     }
-    std::printf("[intel] wrote %s/table.csv, table.md, trajectories.png, scans_*.png, errors_*.png\n",
-                out.c_str());
+    std::printf(
+        "[intel] wrote %s/table.csv, table.md, trajectories.png, scans_*.png, errors_*.png\n",
+        out.c_str());
     std::ifstream t(out + "/table.md");
     std::printf("%s", std::string(std::istreambuf_iterator<char>(t), {}).c_str());
   } catch (const vdtnav::Error& e) {

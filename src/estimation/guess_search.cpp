@@ -22,8 +22,8 @@ double explained_fraction(const VdtSensorModel& model, const ScanPoints& scan, c
 namespace {
 
 /// The truncated VCD over every `stride`-th beam.
-double truncated_vcd_strided(const VdtSensorModel& model, const ScanPoints& scan,
-                             const Pose2& pose, double tau, std::size_t stride) {
+double truncated_vcd_strided(const VdtSensorModel& model, const ScanPoints& scan, const Pose2& pose,
+                             double tau, std::size_t stride) {
   const double c = std::cos(pose[2]), s = std::sin(pose[2]);
   const double t2 = tau * tau;
   double sum = 0.0;
@@ -46,8 +46,7 @@ Pose2 search_guess(const VdtSensorModel& model, const ScanPoints& scan, const Po
                    const GuessSearchOptions& o, const Eigen::Matrix3d* covariance) {
   // Candidates are scored on an even subset of at most max_beams beams.
   const std::size_t stride =
-      o.max_beams > 0 ? std::max<std::size_t>(1, (scan.size() + o.max_beams - 1) / o.max_beams)
-                      : 1;
+      o.max_beams > 0 ? std::max<std::size_t>(1, (scan.size() + o.max_beams - 1) / o.max_beams) : 1;
   Pose2 best = guess;
   double best_score = truncated_vcd_strided(model, scan, guess, o.truncation, stride);
   int hxy = std::max(0, o.steps_xy / 2), hyaw = std::max(0, o.steps_yaw / 2);
@@ -55,10 +54,11 @@ Pose2 search_guess(const VdtSensorModel& model, const ScanPoints& scan, const Po
   const double syaw = hyaw > 0 ? o.window_yaw / hyaw : 0.0;
   if (covariance != nullptr && covariance->allFinite()) {
     // Grow the half-widths to window_sigmas sigma at the base spacing.
-    const double wxy = std::min(o.max_window_xy,
-                                o.window_sigmas * std::sqrt(std::max((*covariance)(0, 0),
-                                                                     (*covariance)(1, 1))));
-    const double wyaw = std::min(o.max_window_yaw, o.window_sigmas * std::sqrt((*covariance)(2, 2)));
+    const double wxy =
+        std::min(o.max_window_xy,
+                 o.window_sigmas * std::sqrt(std::max((*covariance)(0, 0), (*covariance)(1, 1))));
+    const double wyaw =
+        std::min(o.max_window_yaw, o.window_sigmas * std::sqrt((*covariance)(2, 2)));
     if (sxy > 0.0 && wxy > o.window_xy) hxy = static_cast<int>(std::ceil(wxy / sxy));
     if (syaw > 0.0 && wyaw > o.window_yaw) hyaw = static_cast<int>(std::ceil(wyaw / syaw));
   }

@@ -25,7 +25,8 @@ std::unique_ptr<Localizer2D> make_localizer(const std::string& method, const Vdt
                                             const LocalizerSettings& settings) {
   if (method == "vdt-opt") return std::make_unique<VdtOptimizationLocalizer>(vdt, settings.vdt_opt);
   if (method == "vdt-ekf") return std::make_unique<VdtEkfLocalizer>(vdt, settings.vdt_ekf);
-  if (method == "udt-opt") return std::make_unique<UdtOptimizationLocalizer>(occupancy, settings.udt);
+  if (method == "udt-opt")
+    return std::make_unique<UdtOptimizationLocalizer>(occupancy, settings.udt);
   if (method == "udt-ekf") return std::make_unique<UdtEkfLocalizer>(occupancy, settings.udt);
   if (method == "pf") return std::make_unique<ParticleFilterLocalizer>(occupancy, settings.pf);
   std::string known;

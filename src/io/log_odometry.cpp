@@ -9,9 +9,8 @@ namespace {
 
 std::string odom_unusable_reason(const std::vector<CarmenOdometry>& odom, double t0, double t1) {
   if (odom.size() < 2) return "fewer than two ODOM lines";
-  const bool all_zero = std::all_of(odom.begin(), odom.end(), [](const CarmenOdometry& o) {
-    return o.pose.isZero(0.0);
-  });
+  const bool all_zero = std::all_of(odom.begin(), odom.end(),
+                                    [](const CarmenOdometry& o) { return o.pose.isZero(0.0); });
   if (all_zero) return "all ODOM poses are zero (a corrected log)";
   for (std::size_t i = 1; i < odom.size(); ++i) {
     if (!(odom[i].time >= odom[i - 1].time)) {

@@ -29,8 +29,8 @@ TEST(ExplainedFraction, CountsTheBeamsWithinTheDistanceAgainstABruteForceCount) 
       if (occ(Eigen::Vector2i(x, y)) != 0) walls.push_back(occ.cell_center(Eigen::Vector2i(x, y)));
     }
   }
-  for (const Pose2& at : {truth, Pose2(truth + Pose2(0.05, 0.0, 0.0)),
-                          Pose2(truth + Pose2(0.0, 0.0, 0.3))}) {
+  for (const Pose2& at :
+       {truth, Pose2(truth + Pose2(0.05, 0.0, 0.0)), Pose2(truth + Pose2(0.0, 0.0, 0.3))}) {
     // Brute force: the distance of each endpoint to the nearest occupied cell centre.
     std::size_t n = 0;
     const Eigen::Rotation2Dd rot(at[2]);

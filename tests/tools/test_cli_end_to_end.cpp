@@ -201,16 +201,15 @@ TEST(CliEndToEnd, BadInputsFailWithAMessageNamingTheFile) {
                         (d / "coarse").string() + " --quiet",
                     d / "coarse.txt"),
             0);
-  EXPECT_NE(run_cli("localize --map " + (d / "coarse.yaml").string() + " --log " +
-                        (d / "bad.log").string() + " --method vdt-opt --out " +
-                        (d / "x.tum").string(),
-                    d / "bad2.txt"),
-            0);
+  EXPECT_NE(
+      run_cli("localize --map " + (d / "coarse.yaml").string() + " --log " +
+                  (d / "bad.log").string() + " --method vdt-opt --out " + (d / "x.tum").string(),
+              d / "bad2.txt"),
+      0);
   EXPECT_NE(read_all(d / "bad2.txt").find("bad.log:1"), std::string::npos)
       << read_all(d / "bad2.txt");
   EXPECT_NE(run_cli("localize --map " + (d / "coarse.yaml").string() + " --log " +
-                        (d / "run.log").string() + " --method nope --out " +
-                        (d / "x.tum").string(),
+                        (d / "run.log").string() + " --method nope --out " + (d / "x.tum").string(),
                     d / "bad3.txt"),
             0);
 }

@@ -100,10 +100,11 @@ void run_eval(const EvalArgs& a) {
     ro.interpolate = a.max_gap > 0.0;
     ro.max_gap = a.max_gap;
     const eval::RelationMetricResult m = eval::relation_metric(est, rels, ro);
-    std::printf("relations %s: %zu used of %zu (skipped: %zu no stamp within %.3f s, %zu outside "
-                "the trajectory, %zu in gaps > %.3f s)\n",
-                a.relations.c_str(), m.used, rels.size(), m.skipped_no_stamp, a.stamp_tolerance,
-                m.skipped_outside, m.skipped_in_gap, a.max_gap);
+    std::printf(
+        "relations %s: %zu used of %zu (skipped: %zu no stamp within %.3f s, %zu outside "
+        "the trajectory, %zu in gaps > %.3f s)\n",
+        a.relations.c_str(), m.used, rels.size(), m.skipped_no_stamp, a.stamp_tolerance,
+        m.skipped_outside, m.skipped_in_gap, a.max_gap);
     if (m.ok()) {
       std::printf("  translational error  %.4f +- %.4f m     squared %.6f +- %.6f m^2\n",
                   m.translation.mean, m.translation.std, m.translation_squared.mean,
@@ -150,12 +151,14 @@ void run_eval(const EvalArgs& a) {
       print_stats("RPE translation", rpe.translation, 1.0, "m");
       print_stats("RPE rotation", rpe.rotation, kRadToDeg, "deg");
     }
-    js << ",\n  \"reference\": {\"file\": \"" << a.reference << "\", \"matched\": "
-       << ate.matches.size() << ", \"ate_aligned_trans_m\": " << stats_json(ate.translation)
+    js << ",\n  \"reference\": {\"file\": \"" << a.reference
+       << "\", \"matched\": " << ate.matches.size()
+       << ", \"ate_aligned_trans_m\": " << stats_json(ate.translation)
        << ", \"ate_aligned_rot_rad\": " << stats_json(ate.rotation)
        << ", \"ate_trans_m\": " << stats_json(ate.unaligned_translation)
        << ", \"ate_rot_rad\": " << stats_json(ate.unaligned_rotation)
-       << ", \"rpe_frames\": " << a.rpe_delta << ", \"rpe_trans_m\": " << stats_json(rpe.translation)
+       << ", \"rpe_frames\": " << a.rpe_delta
+       << ", \"rpe_trans_m\": " << stats_json(rpe.translation)
        << ", \"rpe_rot_rad\": " << stats_json(rpe.rotation) << "}";
 
     std::vector<double> nees_values;
@@ -182,13 +185,14 @@ void run_eval(const EvalArgs& a) {
     }
     if (!a.cov.empty()) {
       const eval::AneesResult an = eval::anees(nees_values, 3);
-      std::printf("NEES (%s against the reference): ANEES %.3f, 95%% interval [%.3f, %.3f] over %zu "
-                  "poses: %s\n",
-                  a.cov.c_str(), an.anees, an.interval.lower, an.interval.upper, an.count,
-                  an.count == 0              ? "no covariance matched"
-                  : an.consistent            ? "consistent"
-                  : an.anees > an.interval.upper ? "over-confident"
-                                                 : "conservative");
+      std::printf(
+          "NEES (%s against the reference): ANEES %.3f, 95%% interval [%.3f, %.3f] over %zu "
+          "poses: %s\n",
+          a.cov.c_str(), an.anees, an.interval.lower, an.interval.upper, an.count,
+          an.count == 0                  ? "no covariance matched"
+          : an.consistent                ? "consistent"
+          : an.anees > an.interval.upper ? "over-confident"
+                                         : "conservative");
       char b[256];
       std::snprintf(b, sizeof b,
                     ",\n  \"nees\": {\"file\": \"%s\", \"count\": %zu, \"anees\": %.9g, \"lo\": "
@@ -234,10 +238,12 @@ void add_eval_command(CLI::App& app) {
                   "Seconds within which an estimate counts as taken at a relation's stamp "
                   "(the Kuemmerle stamps are exact to the microsecond)")
       ->capture_default_str();
-  cmd->add_option("--match-tolerance", args->match_tolerance,
-                  "Seconds within which an estimate is matched to a --reference pose or a --cov row")
+  cmd->add_option(
+         "--match-tolerance", args->match_tolerance,
+         "Seconds within which an estimate is matched to a --reference pose or a --cov row")
       ->capture_default_str();
-  cmd->add_option("--rpe-delta", args->rpe_delta, "RPE pair spacing, frames")->capture_default_str();
+  cmd->add_option("--rpe-delta", args->rpe_delta, "RPE pair spacing, frames")
+      ->capture_default_str();
   cmd->add_flag("--json", args->json, "Also print the results as JSON");
   cmd->add_option("--json-out", args->json_path, "Write the JSON to this file");
   cmd->add_option("--plot", args->plot, "Figure prefix: PREFIX_errors.png (needs --reference)");

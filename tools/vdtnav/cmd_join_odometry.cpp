@@ -35,9 +35,8 @@ void run_join(const JoinArgs& a) {
   save_carmen_log(a.out_raw, raw);
   save_carmen_log(a.out_corrected, corrected);
   save_tum_trajectory(a.out_reference, reference);
-  std::printf("joined %zu scans (%zu scans without a table row) -> %s, %s, %s\n",
-              raw.lasers.size(), unmatched, a.out_raw.c_str(), a.out_corrected.c_str(),
-              a.out_reference.c_str());
+  std::printf("joined %zu scans (%zu scans without a table row) -> %s, %s, %s\n", raw.lasers.size(),
+              unmatched, a.out_raw.c_str(), a.out_corrected.c_str(), a.out_reference.c_str());
 }
 
 }  // namespace

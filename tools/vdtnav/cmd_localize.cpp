@@ -146,7 +146,9 @@ void add_localize_command(CLI::App& app) {
       ->capture_default_str();
   args->window.add_options(*cmd);
   cmd->add_option("--out", args->out, "Trajectory output (TUM: t x y z qx qy qz qw)")->required();
-  cmd->add_option("--cov", args->cov, "Covariance output (CSV: t,xx,xy,xt,yy,yt,tt; one row per scan, nan without one)");
+  cmd->add_option(
+      "--cov", args->cov,
+      "Covariance output (CSV: t,xx,xy,xt,yy,yt,tt; one row per scan, nan without one)");
   cmd->add_option("--plot", args->plot,
                   "Figure prefix: PREFIX_trajectory.png, PREFIX_scans.png (reprojected scans)");
   cmd->add_option("--odometry", args->odometry,

@@ -69,8 +69,8 @@ void run_map(const MapArgs& a) {
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   save_vdt_map(a.out + ".vdt", vdt);
   const mapping::MappingStats& st = mapper.stats();
-  std::printf("wrote %s.yaml, %s.pgm, %s.vdt (VDT built in %.3f s)\n", a.out.c_str(),
-              a.out.c_str(), a.out.c_str(), build_s);
+  std::printf("wrote %s.yaml, %s.pgm, %s.vdt (VDT built in %.3f s)\n", a.out.c_str(), a.out.c_str(),
+              a.out.c_str(), build_s);
   std::printf("beams: %zu returns, %zu no-return (cleared, not marked), %zu non-finite dropped\n",
               st.hits, st.no_returns, st.dropped_not_finite);
 }
@@ -80,7 +80,8 @@ void run_map(const MapArgs& a) {
 void add_map_command(CLI::App& app) {
   auto args = std::make_shared<MapArgs>();
   CLI::App* cmd = app.add_subcommand(
-      "map", "Build an occupancy map (ROS YAML + PGM) and its VDT map from a log's poses and scans");
+      "map",
+      "Build an occupancy map (ROS YAML + PGM) and its VDT map from a log's poses and scans");
   cmd->add_option("--log", args->log, "CARMEN log (plain or gzip); its laser poses are used")
       ->required()
       ->check(CLI::ExistingFile);
@@ -90,9 +91,11 @@ void add_map_command(CLI::App& app) {
   cmd->add_option("--out", args->out, "Output prefix: PREFIX.yaml, PREFIX.pgm, PREFIX.vdt")
       ->required();
   args->window.add_options(*cmd);
-  cmd->add_option("--margin", args->margin, "Free border around the data, metres")->capture_default_str();
+  cmd->add_option("--margin", args->margin, "Free border around the data, metres")
+      ->capture_default_str();
   cmd->add_option("--max-range", args->max_range,
-                  "Readings at or beyond this are no-returns: they clear, they mark nothing")->capture_default_str();
+                  "Readings at or beyond this are no-returns: they clear, they mark nothing")
+      ->capture_default_str();
   cmd->add_flag("--skip-malformed", args->skip_malformed,
                 "Skip and count malformed log lines instead of stopping at the first");
   cmd->add_flag("--quiet", args->quiet, "No progress bar");

@@ -14,8 +14,7 @@ LoadedMap load_map(const std::string& yaml_path) {
   m.occupancy = occupancy(m.ros);
   const auto t0 = std::chrono::steady_clock::now();
   m.vdt = std::make_unique<VdtMap2>(VdtMap2::build(m.occupancy));
-  m.build_seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  m.build_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return m;
 }
 

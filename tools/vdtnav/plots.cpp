@@ -47,8 +47,11 @@ void plot_trajectories(const std::string& png, const RosMap& map,
     }
     const viz::Rgb c = viz::kColorCycle[k % viz::kColorCycle.size()];
     ax.line(xs, ys,
-            viz::Style{}.with_color(c).with_width(2.0).with_dashes(tracks[k].dashed).with_label(
-                tracks[k].label));
+            viz::Style{}
+                .with_color(c)
+                .with_width(2.0)
+                .with_dashes(tracks[k].dashed)
+                .with_label(tracks[k].label));
     if (k == 0 && every > 0) {
       std::vector<double> mx, my;
       for (std::size_t i = 0; i < tracks[k].poses.size(); i += static_cast<std::size_t>(every)) {
@@ -89,7 +92,8 @@ void plot_reprojected_scans(const std::string& png, const RosMap& map,
     tx.push_back(p[0]);
     ty.push_back(p[1]);
   }
-  ax.line(tx, ty, viz::Style{}.with_color(viz::kColorCycle[0]).with_width(1.5).with_label("estimate"));
+  ax.line(tx, ty,
+          viz::Style{}.with_color(viz::kColorCycle[0]).with_width(1.5).with_label("estimate"));
   ax.legend(viz::LegendLocation::kUpperRight);
   fig.save_png(png);
 }

@@ -20,8 +20,9 @@ struct PlotTrack {
 };
 
 /// \brief Trajectories over the map, with a heading marker every `every` poses of the first.
-void plot_trajectories(const std::string& png, const RosMap& map, const std::vector<PlotTrack>& tracks,
-                       const std::string& title, int every = 15);
+void plot_trajectories(const std::string& png, const RosMap& map,
+                       const std::vector<PlotTrack>& tracks, const std::string& title,
+                       int every = 15);
 
 /// \brief Every scan's endpoints drawn from its estimated pose over the map: a sharp overlay means
 /// the poses are right.

@@ -37,10 +37,10 @@ struct GuessSearchOptions {
   /// After refused updates (the robot in a gap of the map), accept a solution only when it
   /// explains at least this fraction: partial matches on re-entry are often wrong ones.
   double reentry_fraction = 0.7;
-  double window_xy = 0.2;   ///< metres, half-width of the window in x and y
-  double window_yaw = 0.2;  ///< radians, half-width in yaw
-  int steps_xy = 3;         ///< candidates per axis in x and y (odd)
-  int steps_yaw = 9;        ///< candidates in yaw (odd)
+  double window_xy = 0.2;    ///< metres, half-width of the window in x and y
+  double window_yaw = 0.2;   ///< radians, half-width in yaw
+  int steps_xy = 3;          ///< candidates per axis in x and y (odd)
+  int steps_yaw = 9;         ///< candidates in yaw (odd)
   double truncation = 0.25;  ///< tau, metres
   /// Candidates are scored on every k-th beam, k chosen so that at most this many are used
   /// (0: all).
@@ -67,8 +67,8 @@ struct GuessSearchOptions {
                                    const Pose2& pose, double tau);
 
 /// \return the candidate of the window around `guess` (the guess included) with the lowest
-/// truncated VCD (over at most options.max_beams beams). With `covariance` (of the guess), the window grows to window_sigmas standard
-/// deviations (see GuessSearchOptions).
+/// truncated VCD (over at most options.max_beams beams). With `covariance` (of the guess), the
+/// window grows to window_sigmas standard deviations (see GuessSearchOptions).
 [[nodiscard]] Pose2 search_guess(const VdtSensorModel& model, const ScanPoints& scan,
                                  const Pose2& guess, const GuessSearchOptions& options,
                                  const Eigen::Matrix3d* covariance = nullptr);

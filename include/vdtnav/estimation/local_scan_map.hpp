@@ -25,9 +25,9 @@ struct VdtOptimizerOptions;
 /// \brief The local map's extent and when its match is trusted.
 struct LocalScanMapOptions {
   bool enabled = true;
-  int scans = 4;             ///< the local map holds the endpoints of this many recent scans
-  double resolution = 0.1;   ///< metres per cell of the local map
-  double radius = 10.0;      ///< endpoints farther than this from the guess are left out, metres
+  int scans = 4;            ///< the local map holds the endpoints of this many recent scans
+  double resolution = 0.1;  ///< metres per cell of the local map
+  double radius = 10.0;     ///< endpoints farther than this from the guess are left out, metres
   /// A match is used when the local map explains at least this fraction of the scan's beams
   /// (|d| below the search's explained_distance).
   double accept_fraction = 0.5;

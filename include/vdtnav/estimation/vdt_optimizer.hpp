@@ -147,7 +147,7 @@ class VdtOptimizationLocalizer final : public Localizer2D {
   /// with the odometry noise of options().search while updates are refused; it sizes the
   /// window search (guess_search.hpp).
   Eigen::Matrix3d uncertainty_ = Eigen::Matrix3d::Zero();
-  LocalScanMap local_;  ///< the recent scans, for the gaps of the map
+  LocalScanMap local_;   ///< the recent scans, for the gaps of the map
   bool in_gap_ = false;  ///< the last update was refused (the map did not explain its scan)
   std::string name_;
 };

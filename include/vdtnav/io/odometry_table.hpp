@@ -33,8 +33,8 @@ struct OdometryTableRow {
 
 /// \brief The joined logs.
 struct JoinedLogs {
-  CarmenLog raw;        ///< laser pose = odom = raw odometry, time = abs_time
-  CarmenLog corrected;  ///< laser pose = odom = corrected pose, time = abs_time
+  CarmenLog raw;                    ///< laser pose = odom = raw odometry, time = abs_time
+  CarmenLog corrected;              ///< laser pose = odom = corrected pose, time = abs_time
   std::size_t unmatched_scans = 0;  ///< scans of the log without a table row
 };
 

@@ -3,9 +3,9 @@
 #include "vdtnav/octomap/octomap.hpp"
 
 #include <gtest/gtest.h>
-#include <unistd.h>
 #include <octomap/ColorOcTree.h>
 #include <octomap/OcTree.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <array>
