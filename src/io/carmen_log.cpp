@@ -15,6 +15,8 @@
 #include <string_view>
 #include <system_error>
 
+#include "text_fields.hpp"
+
 namespace vdtnav {
 namespace {
 
@@ -70,28 +72,13 @@ std::string read_text(const std::string& path) {
 
 using Fields = std::vector<std::string_view>;
 
-void split(std::string_view line, Fields& out) {
-  out.clear();
-  std::size_t i = 0;
-  while (i < line.size()) {
-    while (i < line.size() && (line[i] == ' ' || line[i] == '\t' || line[i] == '\r')) ++i;
-    const std::size_t start = i;
-    while (i < line.size() && line[i] != ' ' && line[i] != '\t' && line[i] != '\r') ++i;
-    if (i > start) out.push_back(line.substr(start, i - start));
-  }
-}
-
 /// Thrown inside the parser for a malformed line; turned into FormatError or a count.
 struct Malformed : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-/// Parses a whole field as a double; nan, inf and a leading '+' are accepted.
-bool parse_double(std::string_view s, double& v) {
-  if (s.size() > 1 && s[0] == '+' && s[1] != '-') s.remove_prefix(1);
-  const auto r = std::from_chars(s.data(), s.data() + s.size(), v);
-  return !s.empty() && r.ec == std::errc() && r.ptr == s.data() + s.size();
-}
+using io_text::parse_double;
+using io_text::split_fields;
 
 /// Reads the fields of one message in order, naming each in the error it throws.
 class FieldReader {
@@ -411,7 +398,7 @@ CarmenLog load_carmen_log(const std::string& path, const CarmenLogOptions& optio
     const std::string_view line(text.data() + begin, end - begin);
     begin = end + 1;
     ++line_no;
-    split(line, f);
+    split_fields(line, f);
     if (f.empty()) continue;
     if (f[0].front() == '#') {
       ++log.comments;
@@ -444,7 +431,7 @@ void save_carmen_log(const std::string& path, const CarmenLog& log) {
   std::string out;
   for (const auto& [name, value] : log.params) {
     Fields f;
-    split(value, f);
+    split_fields(value, f);
     VDTNAV_CHECK(one_token(name) && !f.empty() && join(f, 0, f.size()) == value,
                  "save_carmen_log: parameter '" + name +
                      "': expected a name without spaces and a non-empty value of single-space "
@@ -462,10 +449,7 @@ void save_carmen_log(const std::string& path, const CarmenLog& log) {
       ++i;
     }
   }
-  std::ofstream file(path, std::ios::binary);
-  if (!file) throw IoError(path + ": cannot open for writing: " + std::strerror(errno));
-  file.write(out.data(), static_cast<std::streamsize>(out.size()));
-  if (!file.flush()) throw IoError(path + ": write failed");
+  io_text::write_text_file(path, out);
 }
 
 }  // namespace vdtnav

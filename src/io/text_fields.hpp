@@ -1,0 +1,81 @@
+#pragma once
+/// \file
+/// \brief Private to vdtnav::io: the whitespace-separated text formats (CARMEN logs, relations,
+/// TUM trajectories) share their field splitting, number parsing, line loop and file writing.
+
+#include <cerrno>
+#include <charconv>
+#include <cstring>
+#include <fstream>
+#include <string>
+#include <string_view>
+#include <system_error>
+#include <vector>
+
+#include "vdtnav/core/error.hpp"
+
+namespace vdtnav::io_text {
+
+/// Splits on spaces and tabs (a '\r' counts as space) into `out`.
+inline void split_fields(std::string_view line, std::vector<std::string_view>& out) {
+  out.clear();
+  std::size_t i = 0;
+  while (i < line.size()) {
+    while (i < line.size() && (line[i] == ' ' || line[i] == '\t' || line[i] == '\r')) ++i;
+    const std::size_t start = i;
+    while (i < line.size() && line[i] != ' ' && line[i] != '\t' && line[i] != '\r') ++i;
+    if (i > start) out.push_back(line.substr(start, i - start));
+  }
+}
+
+/// Parses a whole field as a double; nan, inf and a leading '+' are accepted.
+inline bool parse_double(std::string_view s, double& v) {
+  if (s.size() > 1 && s[0] == '+' && s[1] != '-') s.remove_prefix(1);
+  const auto r = std::from_chars(s.data(), s.data() + s.size(), v);
+  return !s.empty() && r.ec == std::errc() && r.ptr == s.data() + s.size();
+}
+
+/// Shortest fixed-point text that reads back as exactly x.
+inline void append_fixed(std::string& out, double x) {
+  char buf[400];  // fixed notation of the largest double needs 309 digits
+  const auto r = std::to_chars(buf, buf + sizeof(buf), x, std::chars_format::fixed);
+  out.append(buf, r.ptr);
+}
+
+/// \brief Parses every line of `path` that is neither blank nor a '#' comment with
+/// parse(line, item) -> "" or what was expected; collects the items, and the numbers of the
+/// malformed lines when `skip_malformed`.
+/// \throws IoError if the file cannot be read, FormatError (file:line: what) for a malformed line.
+template <class Item, class Parse>
+void read_data_lines(const std::string& path, const char* what, bool skip_malformed, Parse&& parse,
+                     std::vector<Item>& items, std::vector<std::size_t>& malformed_lines) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw IoError(path + ": cannot open " + what + ": " + std::strerror(errno));
+  std::string line;
+  std::size_t line_no = 0;
+  while (std::getline(in, line)) {
+    ++line_no;
+    const std::size_t first = line.find_first_not_of(" \t\r");
+    if (first == std::string::npos || line[first] == '#') continue;
+    Item item;
+    const std::string error = parse(line, item);
+    if (error.empty()) {
+      items.push_back(std::move(item));
+    } else if (skip_malformed) {
+      malformed_lines.push_back(line_no);
+    } else {
+      throw FormatError(path, line_no, error);
+    }
+  }
+  if (in.bad()) throw IoError(path + ": cannot read " + what);
+}
+
+/// Writes `text` to `path`. \throws IoError when it cannot.
+inline void write_text_file(const std::string& path, const std::string& text) {
+  std::ofstream file(path, std::ios::binary);
+  if (!file) throw IoError(path + ": cannot open for writing: " + std::strerror(errno));
+  file.write(text.data(), static_cast<std::streamsize>(text.size()));
+  if (!file.flush()) throw IoError(path + ": write failed");
+}
+
+}  // namespace vdtnav::io_text
