@@ -17,8 +17,13 @@
 #include <utility>
 #include <vector>
 
+#include "test_files.hpp"
+
 namespace vdtnav {
 namespace {
+
+using test::tmp_dir;
+using test::write_file;
 
 namespace fs = std::filesystem;
 constexpr double kPi = 3.14159265358979323846;
@@ -34,20 +39,6 @@ const std::string kKillian =
 
 #define REQUIRE_DATA(path) \
   if (!fs::exists(path)) GTEST_SKIP() << "real data not found at " << (path)
-
-/// A fresh directory for the running test.
-std::string tmp_dir() {
-  const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-  const fs::path dir = fs::path(VDTNAV_TEST_TMP) / "carmen_log" /
-                       (std::string(info->test_suite_name()) + "." + info->name());
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir.string();
-}
-
-void write_file(const std::string& path, const std::string& bytes) {
-  std::ofstream(path, std::ios::binary) << bytes;
-}
 
 std::string read_file(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
@@ -280,7 +271,7 @@ TEST(CarmenLogKillian, CountsAndTheNoReturnOption) {
 // ---------------------------------------------------------------- geometry and readings
 
 TEST(CarmenLog, FlaserBeamGeometry) {
-  const std::string dir = tmp_dir();
+  const std::string dir = tmp_dir("carmen_log");
   struct Case {
     std::size_t n;
     double last_deg, step_deg;
@@ -305,7 +296,7 @@ TEST(CarmenLog, FlaserBeamGeometry) {
 }
 
 TEST(CarmenLog, NoReturnAndNonFiniteReadingsAreDroppedNotMalformed) {
-  const std::string dir = tmp_dir();
+  const std::string dir = tmp_dir("carmen_log");
   const std::string path = dir + "/readings.log";
   write_file(path, flaser(180, {"1.0", "81.83", "80", "79.99", "nan", "inf", "-inf", "0.05",
                                 "32.76", "NaN", "+3.25"}) +
@@ -343,7 +334,7 @@ TEST(CarmenLog, NoReturnAndNonFiniteReadingsAreDroppedNotMalformed) {
 }
 
 TEST(CarmenLog, MessagesCommentsAndUnknownTypes) {
-  const std::string dir = tmp_dir();
+  const std::string dir = tmp_dir("carmen_log");
   const std::string path = dir + "/mixed.log";
   write_file(path,
              "# CARMEN Logfile\r\n"
@@ -403,7 +394,7 @@ TEST(CarmenLog, MessagesCommentsAndUnknownTypes) {
 // ---------------------------------------------------------------- malformed lines
 
 TEST(CarmenLog, SyntheticMalformedLinesNameFileLineAndExpectation) {
-  const std::string dir = tmp_dir();
+  const std::string dir = tmp_dir("carmen_log");
   struct Case {
     const char* name;
     std::string line;
@@ -451,7 +442,7 @@ TEST(CarmenLog, SyntheticMalformedLinesNameFileLineAndExpectation) {
 
 TEST(CarmenLogIntel, CorruptedCopiesNameTheLineAndSkipMalformedKeepsTheRest) {
   REQUIRE_DATA(kIntel);
-  const std::string dir = tmp_dir();
+  const std::string dir = tmp_dir("carmen_log");
   const CarmenLog original = load_carmen_log(kIntel);
   const std::vector<std::string> lines = lines_of(gunzip(kIntel));
   ASSERT_EQ(lines.size(), 16361U);
@@ -526,7 +517,7 @@ TEST(CarmenLogIntel, CorruptedCopiesNameTheLineAndSkipMalformedKeepsTheRest) {
 
 TEST(CarmenLogIntel, PlainAndGzipCopiesReadTheSame) {
   REQUIRE_DATA(kIntel);
-  const std::string dir = tmp_dir();
+  const std::string dir = tmp_dir("carmen_log");
   const CarmenLog gz = load_carmen_log(kIntel);
   const std::string plain = dir + "/intel.gfs.log";
   write_file(plain, gunzip(kIntel));
@@ -562,7 +553,7 @@ TEST(CarmenLogIntel, PlainAndGzipCopiesReadTheSame) {
 
 TEST(CarmenLogIntel, SaveLoadRoundTrip) {
   REQUIRE_DATA(kIntel);
-  const std::string dir = tmp_dir();
+  const std::string dir = tmp_dir("carmen_log");
   const CarmenLog log = load_carmen_log(kIntel);
   const std::string path = dir + "/intel.log";
   save_carmen_log(path, log);
@@ -579,7 +570,7 @@ TEST(CarmenLogIntel, SaveLoadRoundTrip) {
 }
 
 TEST(CarmenLog, SaveLoadRoundTripKeepsEveryBit) {
-  const std::string dir = tmp_dir();
+  const std::string dir = tmp_dir("carmen_log");
   std::mt19937_64 rng(7);
   std::uniform_real_distribution<double> u(-1e3, 1e3);
   CarmenLog log;
@@ -640,7 +631,7 @@ TEST(CarmenLog, SaveLoadRoundTripKeepsEveryBit) {
 }
 
 TEST(CarmenLog, SaveRejectsWhatFlaserCannotHold) {
-  const std::string path = tmp_dir() + "/bad.log";
+  const std::string path = tmp_dir("carmen_log") + "/bad.log";
   const auto rejects = [&](auto&& edit) {
     CarmenLog log;
     log.lasers.resize(1);
@@ -658,7 +649,7 @@ TEST(CarmenLog, SaveRejectsWhatFlaserCannotHold) {
   rejects([](CarmenLog& log) { log.params["a b"] = "1"; });
   rejects([](CarmenLog& log) { log.params["a"] = ""; });
   rejects([](CarmenLog& log) { log.params["a"] = "x  y"; });
-  EXPECT_THROW(save_carmen_log(tmp_dir() + "/no/such/dir/x.log", CarmenLog{}), IoError);
+  EXPECT_THROW(save_carmen_log(tmp_dir("carmen_log") + "/no/such/dir/x.log", CarmenLog{}), IoError);
 }
 
 }  // namespace

@@ -12,35 +12,20 @@
 #include <string>
 #include <vector>
 
+#include "test_files.hpp"
+
 namespace vdtnav {
 namespace {
+
+using test::lines_of;
+using test::tmp_dir;
+using test::write_file;
 
 namespace fs = std::filesystem;
 
 const std::string kIntelRelations = std::string(VDTNAV_DATA_DIR) + "/intel-lab/intel.relations";
 const std::string kKillianRelations =
     std::string(VDTNAV_DATA_DIR) + "/mit-killian/mit-killian.relations";
-
-/// A fresh directory for the running test.
-std::string tmp_dir() {
-  const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-  const fs::path dir = fs::path(VDTNAV_TEST_TMP) / "relations" /
-                       (std::string(info->test_suite_name()) + "." + info->name());
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir.string();
-}
-
-void write_file(const std::string& path, const std::string& bytes) {
-  std::ofstream(path, std::ios::binary) << bytes;
-}
-
-std::vector<std::string> lines_of(const std::string& path) {
-  std::vector<std::string> lines;
-  std::ifstream in(path);
-  for (std::string l; std::getline(in, l);) lines.push_back(l);
-  return lines;
-}
 
 std::string message_of(const std::string& path) {
   try {
@@ -98,7 +83,7 @@ TEST(RelationsKillian, LoadsEveryLine) {
 }
 
 TEST(Relations, MalformedLinesNameFileAndLine) {
-  const std::string dir = tmp_dir();
+  const std::string dir = tmp_dir("relations");
   struct Case {
     const char* name;
     const char* line;
@@ -140,7 +125,7 @@ TEST(Relations, MalformedLinesNameFileAndLine) {
 
 TEST(RelationsIntel, CorruptedCopyWithBadZ) {
   if (!fs::exists(kIntelRelations)) GTEST_SKIP() << "real data not found at " << kIntelRelations;
-  const std::string dir = tmp_dir();
+  const std::string dir = tmp_dir("relations");
   std::vector<std::string> lines = lines_of(kIntelRelations);
   ASSERT_EQ(lines.size(), 2984U);
   // Line 1000: z 0.000000 -> 0.250000; line 2500 loses its yaw.
@@ -171,7 +156,7 @@ TEST(RelationsIntel, CorruptedCopyWithBadZ) {
 }
 
 TEST(Relations, SaveLoadRoundTripKeepsEveryBit) {
-  const std::string dir = tmp_dir();
+  const std::string dir = tmp_dir("relations");
   std::mt19937_64 rng(3);
   std::uniform_real_distribution<double> u(-10.0, 10.0);
   std::vector<Relation> relations;

@@ -11,35 +11,20 @@
 #include <string>
 #include <vector>
 
+#include "test_files.hpp"
+
 namespace vdtnav {
 namespace {
+
+using test::lines_of;
+using test::tmp_dir;
+using test::write_file;
 
 namespace fs = std::filesystem;
 constexpr double kPi = 3.14159265358979323846;
 
 const std::string kIntelTable =
     std::string(VDTNAV_DATA_DIR) + "/intel-lab/intel_910_odom_vs_corrected.txt";
-
-/// A fresh directory for the running test.
-std::string tmp_dir() {
-  const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-  const fs::path dir = fs::path(VDTNAV_TEST_TMP) / "tum_trajectory" /
-                       (std::string(info->test_suite_name()) + "." + info->name());
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir.string();
-}
-
-void write_file(const std::string& path, const std::string& bytes) {
-  std::ofstream(path, std::ios::binary) << bytes;
-}
-
-std::vector<std::string> lines_of(const std::string& path) {
-  std::vector<std::string> lines;
-  std::ifstream in(path);
-  for (std::string l; std::getline(in, l);) lines.push_back(l);
-  return lines;
-}
 
 std::vector<double> numbers(const std::string& line) {
   std::istringstream s(line);
@@ -66,7 +51,7 @@ Pose3 random_pose(std::mt19937_64& rng) {
 }
 
 TEST(TumTrajectory, SaveLoadRoundTrip) {
-  const std::string dir = tmp_dir();
+  const std::string dir = tmp_dir("tum_trajectory");
   std::mt19937_64 rng(5);
   std::vector<StampedPose3> poses;
   for (int k = 0; k < 300; ++k) {
@@ -138,7 +123,7 @@ TEST(TumTrajectory, PlanarConveniences) {
 
 TEST(TumTrajectory, IntelCorrectedTrajectoryKeepsAbsoluteTimes) {
   if (!fs::exists(kIntelTable)) GTEST_SKIP() << "real data not found at " << kIntelTable;
-  const std::string dir = tmp_dir();
+  const std::string dir = tmp_dir("tum_trajectory");
   std::vector<StampedPose3> poses;
   std::vector<Pose2> planar;
   std::ifstream in(kIntelTable);
@@ -165,7 +150,7 @@ TEST(TumTrajectory, IntelCorrectedTrajectoryKeepsAbsoluteTimes) {
 }
 
 TEST(TumTrajectory, QuaternionNormAndMalformedLines) {
-  const std::string dir = tmp_dir();
+  const std::string dir = tmp_dir("tum_trajectory");
   // |q| = 1.0005: within 1e-3, normalised.
   const std::string ok = dir + "/ok.tum";
   write_file(ok,
