@@ -266,11 +266,10 @@ void ParticleFilterLocalizer::resample() {
 }
 
 LocalizationResult ParticleFilterLocalizer::update(const OdometryStep& odometry,
-                                                   const LaserScan& scan) {
+                                                   const ScanPoints& points) {
   LocalizationResult result;
   result.has_covariance = true;
   resampled_ = false;
-  const ScanPoints points = scan_points(scan);
   result.dropped = static_cast<int>(points.dropped_not_finite + points.dropped_out_of_range);
 
   // 1. amcl's update gate on the odometry accumulated since the filter last ran. Non-finite
@@ -301,7 +300,7 @@ LocalizationResult ParticleFilterLocalizer::update(const OdometryStep& odometry,
   }
 
   // 3. Correction (Table 6.3) in log space, with the endpoints in the grid's cell units.
-  tabulate_log_likelihood(scan.range_max);
+  tabulate_log_likelihood(points.range_max);
   const std::size_t n_valid = points.size();
   const std::size_t n_beams = std::min(n_valid, static_cast<std::size_t>(options_.max_beams));
   const GridFrame<2>& frame = field_.distances().frame();

@@ -21,6 +21,7 @@ UdtBeam udt_beam(const DistanceFieldMap<2>& udt, const Pose2& pose, double c, do
   b.e_pose << smp.gradient.x(), smp.gradient.y(),
       smp.gradient.dot(Eigen::Vector2d(-rp.y(), rp.x()));
   b.e_range = smp.gradient.dot(ru);
+  b.e_point << smp.gradient.x() * c + smp.gradient.y() * s, -smp.gradient.x() * s + smp.gradient.y() * c;
   b.inlier = smp.inside && std::abs(smp.value) < gate;
   return b;
 }
@@ -79,9 +80,8 @@ void UdtOptimizationLocalizer::reset(const Pose2& pose, const Eigen::Matrix3d& /
 }
 
 LocalizationResult UdtOptimizationLocalizer::update(const OdometryStep& odometry,
-                                                    const LaserScan& scan) {
+                                                    const ScanPoints& pts) {
   const Pose2 guess = compose(pose_, odometry.delta);
-  const ScanPoints pts = scan_points(scan);
   LocalizationResult r;
   r.pose = guess;
   std::vector<int> beams;
@@ -142,9 +142,8 @@ void UdtEkfLocalizer::reset(const Pose2& pose, const Eigen::Matrix3d& covariance
   p_ = covariance;
 }
 
-LocalizationResult UdtEkfLocalizer::update(const OdometryStep& odometry, const LaserScan& scan) {
+LocalizationResult UdtEkfLocalizer::update(const OdometryStep& odometry, const ScanPoints& pts) {
   ekf_predict(options_.motion, options_.noise, odometry, x_, p_);
-  const ScanPoints pts = scan_points(scan);
   Eigen::Matrix3d info = p_.inverse();
   Eigen::Vector3d b = Eigen::Vector3d::Zero();
   int used = 0;
@@ -153,7 +152,12 @@ LocalizationResult UdtEkfLocalizer::update(const OdometryStep& odometry, const L
   for (std::size_t i = 0; i < pts.size(); ++i) {
     const UdtBeam beam = udt_beam(udt_, x_, c, s, pts.points[i], pts.directions[i], options_.gate);
     if (!beam.inlier) continue;
-    const double r = s2 * beam.e_range * beam.e_range + m2;  // scalar observation noise
+    // Scalar observation noise: the range's, or a point covariance's (errors shared by every point
+    // are not modelled by this baseline).
+    const double r = (pts.point_covariances.empty()
+                          ? s2 * beam.e_range * beam.e_range
+                          : double(beam.e_point * pts.point_covariances[i] * beam.e_point.transpose())) +
+                     m2;
     info.noalias() += beam.e_pose.transpose() * beam.e_pose / r;
     b.noalias() += beam.e_pose.transpose() * (-beam.e) / r;  // innovation: expected DT_u is 0
     ++used;

@@ -65,9 +65,8 @@ void VdtEkfLocalizer::reset(const Pose2& pose, const Eigen::Matrix3d& covariance
   p_ = covariance;
 }
 
-LocalizationResult VdtEkfLocalizer::update(const OdometryStep& odometry, const LaserScan& scan) {
+LocalizationResult VdtEkfLocalizer::update(const OdometryStep& odometry, const ScanPoints& pts) {
   ekf_predict(options_.motion, options_.noise, odometry, x_, p_);
-  const ScanPoints pts = scan_points(scan);
   LocalizationResult result;
   const int valid = static_cast<int>(pts.size());
   const int invalid = static_cast<int>(pts.dropped_not_finite + pts.dropped_out_of_range);
@@ -78,48 +77,72 @@ LocalizationResult VdtEkfLocalizer::update(const OdometryStep& odometry, const L
   if (so.enabled && explained_fraction(model_, pts, x_, so.explained_distance) < so.search_below) {
     xi = search_guess(model_, pts, x_, so, &p_);
   }
-  const Eigen::Matrix3d prior_info = p_.inverse();
-  thread_local std::vector<Eigen::Vector2d> nu;
-  thread_local std::vector<Eigen::Matrix<double, 2, 3>> h;
-  thread_local std::vector<Eigen::Matrix2d> r;
-  Eigen::Matrix3d info = prior_info;
+  // Errors every point shares (a camera's roll, pitch, altitude: ObservationSet) are not
+  // independent per point: they join the state for this update as theta ~ N(0, cov(theta)), each
+  // point's disparity moving with d_point G_i theta, and are marginalised out afterwards (the pose
+  // block of the joint covariance). Without them the state is the pose alone.
+  const int k = pts.num_shared();
+  const int n = 3 + k;
+  using Info = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 3 + ScanPoints::kMaxShared,
+                             3 + ScanPoints::kMaxShared>;
+  using Vec = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 3 + ScanPoints::kMaxShared, 1>;
+  Info prior_info = Info::Zero(n, n);
+  prior_info.topLeftCorner<3, 3>() = p_.inverse();
+  if (k > 0) prior_info.bottomRightCorner(k, k) = pts.shared_covariance.inverse();
+  const bool point_cov = !pts.point_covariances.empty();
+  Vec theta = Vec::Zero(n - 3);
+  Info info = prior_info;
+  Eigen::Matrix<double, 2, Eigen::Dynamic, 0, 2, 3 + ScanPoints::kMaxShared> hi(2, n);
   for (int it = 0; it < std::max(1, options_.max_iterations); ++it) {
-    nu.clear();
-    h.clear();
-    r.clear();
-    for (std::size_t i = 0; i < pts.size(); ++i) {
-      const BeamDisparity b = model_.disparity(xi, pts.points[i], pts.directions[i]);
-      if (!b.inlier) continue;
-      nu.push_back(-b.d);  // (3.12) corrected: the expected disparity is zero
-      h.push_back(b.d_pose);
-      r.push_back(model_.disparity_covariance(b, pts.sigma_range));
-    }
-    result.inliers = static_cast<int>(nu.size());
-    if (result.inliers < options_.min_inliers) break;
-    // Gauss-Newton step on (X - X_pred)^T P^-1 (X - X_pred) + sum d^T R^-1 d from the iterate
-    // X_i; at X_i = X_pred this is the information-form update (3.13)-(3.21).
+    // Gauss-Newton step on (z - z_pred)^T P_z^-1 (z - z_pred) + sum d^T R^-1 d from the iterate
+    // z_i = (X_i, theta_i); at z_i = z_pred this is the information-form update (3.13)-(3.21).
     info = prior_info;
-    Eigen::Vector3d b = -prior_info * pose_error(xi, x_);
-    for (std::size_t k = 0; k < nu.size(); ++k) {
-      const Eigen::Matrix<double, 3, 2> htri = h[k].transpose() * r[k].inverse();
-      info.noalias() += htri * h[k];
-      b.noalias() += htri * nu[k];
+    Vec b = Vec::Zero(n);
+    b.head<3>() = -p_.inverse() * pose_error(xi, x_);
+    if (k > 0) b.tail(k) = -prior_info.bottomRightCorner(k, k) * theta;
+    int used = 0;
+    for (std::size_t i = 0; i < pts.size(); ++i) {
+      const BeamDisparity bd = model_.disparity(xi, pts.points[i], pts.directions[i]);
+      if (!bd.inlier) continue;
+      ++used;
+      hi.leftCols<3>() = bd.d_pose;
+      Eigen::Vector2d d = bd.d;
+      if (k > 0) {
+        hi.rightCols(k) = bd.d_point * pts.shared_jacobians[i];
+        d.noalias() += hi.rightCols(k) * theta;
+      }
+      const Eigen::Matrix2d r_inv =
+          (point_cov ? model_.disparity_covariance_point(bd, pts.point_covariances[i])
+                     : model_.disparity_covariance(bd, pts.sigma_range))
+              .inverse();
+      const Eigen::Matrix<double, Eigen::Dynamic, 2, 0, 3 + ScanPoints::kMaxShared, 2> htri =
+          hi.transpose() * r_inv;
+      info.noalias() += htri * hi;
+      b.noalias() -= htri * d;  // (3.12) corrected: innovation -d, the expected disparity is zero
     }
-    const Eigen::Vector3d step = info.ldlt().solve(b);
-    xi += step;
+    result.inliers = used;
+    if (result.inliers < options_.min_inliers) break;
+    const Vec step = info.ldlt().solve(b);
+    xi += step.head<3>();
     xi[2] = wrap_angle(xi[2]);
+    if (k > 0) theta += step.tail(k);
     result.iterations = it + 1;
     if (step.head<2>().norm() < 1e-5 && std::abs(step[2]) < 1e-5) break;
   }
   result.dropped = valid + invalid - result.inliers;
-  if (result.inliers < options_.min_inliers) {
-    result.status = LocalizationStatus::kTooFewObservations;
-  } else if (so.enabled &&
-             explained_fraction(model_, pts, xi, so.explained_distance) < so.accept_fraction) {
+  const double explained =
+      result.inliers < options_.min_inliers
+          ? 0.0
+          : explained_fraction(model_, pts, xi, so.explained_distance);
+  if (result.inliers < options_.min_inliers ||
+      explained * static_cast<double>(valid) < options_.min_inliers) {
+    result.status = LocalizationStatus::kTooFewObservations;  // prediction only
+  } else if (so.enabled && explained < so.accept_fraction) {
     result.status = LocalizationStatus::kNotConverged;  // the map does not explain the scan
   } else {
     x_ = xi;
-    Eigen::Matrix3d pn = info.inverse();
+    // The pose block of the joint covariance: theta marginalised out.
+    const Eigen::Matrix3d pn = Info(info.inverse()).topLeftCorner<3, 3>();
     p_ = 0.5 * (pn + pn.transpose());
     result.status = LocalizationStatus::kConverged;
   }

@@ -510,23 +510,43 @@ bool VdtOptimizerT<Dim>::covariance(const Observations& scan, const Pose& pose,
   const Rotation r = Traits::rotation(pose);
   const Vector t = Traits::translation(pose);
   Covariance h = Covariance::Zero(), middle = Covariance::Zero();
+  // Points with a covariance of their own (camera points) instead of one range error each, and
+  // errors every point shares (a camera's roll, pitch and altitude): their sensitivity
+  // S = sum_i d^2(d_VCD/2)/dX dp_i G_i adds the common-mode term S cov(theta) S^T to (3.4), not a
+  // sum of independent per-point terms.
+  const bool point_cov = !scan.point_covariances.empty();
+  const int k_shared = scan.num_shared();
+  Eigen::Matrix<double, kDoF, Eigen::Dynamic> shared =
+      Eigen::Matrix<double, kDoF, Eigen::Dynamic>::Zero(kDoF, k_shared);
   for (const int i : order) {
     if (!inliers[i]) continue;
     if (options_.covariance == CovarianceMethod::kImplicitFunction) {
       BeamCurvatureT<Dim> c;
       const BeamDisparityT<Dim> b = model_.disparity(r, t, scan.points[i], scan.directions[i], &c);
       const double w = loss_weight(options_.loss, options_.loss_scale, b.d.squaredNorm());
-      h += w * c.hessian;                                                  // (3.6), of d_VCD / 2
-      middle.noalias() += (w * w * s2) * c.cross * c.cross.transpose();    // range noise via (3.5)
+      h += w * c.hessian;  // (3.6), of d_VCD / 2
+      if (point_cov) {
+        middle.noalias() += (w * w) * c.cross_point * scan.point_covariances[i] *
+                            c.cross_point.transpose();  // point noise via (3.5)
+      } else {
+        middle.noalias() += (w * w * s2) * c.cross * c.cross.transpose();  // range noise via (3.5)
+      }
       middle.noalias() += (w * w * m2) * b.d_pose.transpose() * b.d_pose;  // map-noise floor
+      if (k_shared > 0) shared.noalias() += w * c.cross_point * scan.shared_jacobians[i];
     } else {
       const BeamDisparityT<Dim> b = model_.disparity(r, t, scan.points[i], scan.directions[i]);
       const double w = loss_weight(options_.loss, options_.loss_scale, b.d.squaredNorm());
       h.noalias() += w * b.d_pose.transpose() * b.d_pose;
-      middle.noalias() += (w * w) * b.d_pose.transpose() *
-                          model_.disparity_covariance(b, scan.sigma_range) * b.d_pose;
+      const auto cov_d = point_cov
+                             ? model_.disparity_covariance_point(b, scan.point_covariances[i])
+                             : model_.disparity_covariance(b, scan.sigma_range);
+      middle.noalias() += (w * w) * b.d_pose.transpose() * cov_d * b.d_pose;
+      if (k_shared > 0) {
+        shared.noalias() += w * b.d_pose.transpose() * b.d_point * scan.shared_jacobians[i];
+      }
     }
   }
+  if (k_shared > 0) middle.noalias() += shared * scan.shared_covariance * shared.transpose();
   // Held components (4-DOF mode): the estimate does not move along them, so they drop out of H
   // and of the noise term; the unit diagonal keeps H invertible and their rows of cov zero.
   int free = 0;
@@ -553,7 +573,10 @@ bool VdtOptimizerT<Dim>::covariance(const Observations& scan, const Pose& pose,
     for (const int i : order) {
       if (!inliers[i]) continue;
       const BeamDisparityT<Dim> b = model_.disparity(r, t, scan.points[i], scan.directions[i]);
-      chi2 += b.d.dot(model_.disparity_covariance(b, scan.sigma_range).ldlt().solve(b.d));
+      const auto cov_d = point_cov
+                             ? model_.disparity_covariance_point(b, scan.point_covariances[i])
+                             : model_.disparity_covariance(b, scan.sigma_range);
+      chi2 += b.d.dot(cov_d.ldlt().solve(b.d));
       ++n;
     }
     const int dof = Dim * n - free;
@@ -579,13 +602,12 @@ void VdtOptimizationLocalizer::reset(const Pose2& pose, const Eigen::Matrix3d& c
 }
 
 LocalizationResult VdtOptimizationLocalizer::update(const OdometryStep& odometry,
-                                                    const LaserScan& scan) {
+                                                    const ScanPoints& pts) {
   const GuessSearchOptions& so = optimizer_.options().search;
   Pose2 guess = pose_;  // UPDATEGUESS: X (+) odometry, its uncertainty propagated alongside
   const Eigen::Matrix3d previous_uncertainty = uncertainty_;
   ekf_predict(MotionModelKind::kOdometryIncrement, so.odometry_noise, odometry, guess,
               uncertainty_);
-  const ScanPoints pts = scan_points(scan);
   const auto usable = [](const LocalizationResult& x) {
     return x.status == LocalizationStatus::kConverged ||
            x.status == LocalizationStatus::kNotConverged;
@@ -626,8 +648,13 @@ LocalizationResult VdtOptimizationLocalizer::update(const OdometryStep& odometry
     in_gap_ = false;
   } else {
     // Nothing usable, or the map does not explain the scan: match it against the recent scans,
-    // else keep the odometry guess. Either way it is not a localization on the map.
-    if (usable(r)) r.status = LocalizationStatus::kNotConverged;
+    // else keep the odometry guess. Either way it is not a localization on the map. Fewer
+    // explained readings than min_inliers (a camera over grass) is "too few observations".
+    if (usable(r)) {
+      r.status = explained * static_cast<double>(pts.size()) < optimizer_.options().min_inliers
+                     ? LocalizationStatus::kTooFewObservations
+                     : LocalizationStatus::kNotConverged;
+    }
     r.has_covariance = false;
     const std::optional<Pose2> bridged =
         local_.match(pts, guess, optimizer_.options(), so.explained_distance);

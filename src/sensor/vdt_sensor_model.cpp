@@ -59,6 +59,7 @@ typename VdtSensorModelT<Dim>::Disparity VdtSensorModelT<Dim>::disparity(
   }
   b.inlier = b.inside && passes_gate(b.d);
   b.d_pose = Traits::pose_jacobian(jac, rp);  // J dq/dX
+  b.d_point.noalias() = jac * r;
   b.d_range = jac * ru;
 
   if (curvature != nullptr) {
@@ -74,9 +75,14 @@ typename VdtSensorModelT<Dim>::Disparity VdtSensorModelT<Dim>::disparity(
     curvature->hessian.noalias() = b.d_pose.transpose() * b.d_pose;
     curvature->hessian.noalias() += dq_dx.transpose() * hd * dq_dx;
     curvature->hessian += Traits::point_hessian(g, rp);
-    curvature->cross.noalias() = b.d_pose.transpose() * b.d_range;
-    curvature->cross.noalias() += dq_dx.transpose() * (hd * ru);
-    curvature->cross.noalias() += Traits::rotation_jacobian(Matrix::Identity(), ru).transpose() * g;
+    //   d^2/dXdp  = D^T (J R) + Q^T (sum_c d_c H_c) R + [(dQ/dp_k)^T g]_k   (column k: along e_k)
+    curvature->cross_point.noalias() = b.d_pose.transpose() * b.d_point;
+    curvature->cross_point.noalias() += dq_dx.transpose() * (hd * r);
+    for (int k = 0; k < Dim; ++k) {
+      curvature->cross_point.col(k) +=
+          Traits::rotation_jacobian(Matrix::Identity(), r.col(k)).transpose() * g;
+    }
+    curvature->cross.noalias() = curvature->cross_point * u;
   }
   return b;
 }
@@ -108,6 +114,17 @@ typename VdtSensorModelT<Dim>::Matrix VdtSensorModelT<Dim>::disparity_covariance
     cov = s2 * b.d_range * b.d_range.transpose();  // every component shares one range error
   } else {
     cov = (s2 * b.d_range.array().square()).matrix().asDiagonal();  // (2.13)-(2.15)
+  }
+  cov.diagonal().array() += map_sigma_ * map_sigma_;
+  return cov;
+}
+
+template <int Dim>
+typename VdtSensorModelT<Dim>::Matrix VdtSensorModelT<Dim>::disparity_covariance_point(
+    const Disparity& b, const Matrix& point_cov) const {
+  Matrix cov = b.d_point * point_cov * b.d_point.transpose();
+  if (options_.covariance == DisparityCovariance::kDiagonal) {
+    cov = Matrix(cov.diagonal().asDiagonal());  // (2.13)-(2.15): correlations dropped
   }
   cov.diagonal().array() += map_sigma_ * map_sigma_;
   return cov;

@@ -74,9 +74,15 @@ class Localizer2D {
   virtual ~Localizer2D() = default;
   /// \brief Starts (again) at `pose` with uncertainty `covariance`.
   virtual void reset(const Pose2& pose, const Eigen::Matrix3d& covariance) = 0;
-  /// \brief Predicts with the odometry since the previous step, then corrects with the scan.
+  /// \brief Predicts with the odometry since the previous step, then corrects with the
+  /// observations: robot-frame points with their noise (a LiDAR scan's endpoints, a camera's
+  /// edge points on the ground, ...).
   [[nodiscard]] virtual LocalizationResult update(const OdometryStep& odometry,
-                                                  const LaserScan& scan) = 0;
+                                                  const ScanPoints& observations) = 0;
+  /// \brief A LiDAR scan: update(odometry, scan_points(scan)).
+  [[nodiscard]] LocalizationResult update(const OdometryStep& odometry, const LaserScan& scan) {
+    return update(odometry, scan_points(scan));
+  }
   /// \return the method's name in tables ("vdt-opt", "pf", ...).
   [[nodiscard]] virtual std::string name() const = 0;
 };

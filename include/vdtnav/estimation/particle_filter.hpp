@@ -147,8 +147,9 @@ class ParticleFilterLocalizer final : public Localizer2D {
   void reset(const Pose2& pose, const Eigen::Matrix3d& covariance) override;
 
   /// \brief Predicts with odometry.delta, corrects with the scan, resamples (see the class).
+  using Localizer2D::update;
   [[nodiscard]] LocalizationResult update(const OdometryStep& odometry,
-                                          const LaserScan& scan) override;
+                                          const ScanPoints& observations) override;
 
   /// \return "pf".
   [[nodiscard]] std::string name() const override { return "pf"; }

@@ -19,6 +19,7 @@ struct UdtBeam {
   double e = 0.0;                                          ///< DT_u(q_i)
   Eigen::RowVector3d e_pose = Eigen::RowVector3d::Zero();  ///< d DT_u(q_i) / dX
   double e_range = 0.0;                                    ///< d DT_u(q_i) / dr_i
+  Eigen::RowVector2d e_point = Eigen::RowVector2d::Zero(); ///< d DT_u(q_i) / dp_i (robot frame)
   bool inlier = false;                                     ///< inside the map and DT_u < gate
 };
 
@@ -43,8 +44,9 @@ class UdtOptimizationLocalizer final : public Localizer2D {
  public:
   UdtOptimizationLocalizer(const OccupancyGrid<2>& map, const UdtOptions& options = {});
   void reset(const Pose2& pose, const Eigen::Matrix3d& covariance) override;
+  using Localizer2D::update;
   [[nodiscard]] LocalizationResult update(const OdometryStep& odometry,
-                                          const LaserScan& scan) override;
+                                          const ScanPoints& observations) override;
   [[nodiscard]] std::string name() const override { return "udt-opt"; }
 
  private:
@@ -58,8 +60,9 @@ class UdtEkfLocalizer final : public Localizer2D {
  public:
   UdtEkfLocalizer(const OccupancyGrid<2>& map, const UdtOptions& options = {});
   void reset(const Pose2& pose, const Eigen::Matrix3d& covariance) override;
+  using Localizer2D::update;
   [[nodiscard]] LocalizationResult update(const OdometryStep& odometry,
-                                          const LaserScan& scan) override;
+                                          const ScanPoints& observations) override;
   [[nodiscard]] std::string name() const override { return "udt-ekf"; }
 
  private:

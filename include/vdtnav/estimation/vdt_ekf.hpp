@@ -60,8 +60,9 @@ class VdtEkfLocalizer final : public Localizer2D {
   VdtEkfLocalizer(const VdtMap2& map, const VdtEkfOptions& options = {},
                   std::string name = "vdt-ekf");
   void reset(const Pose2& pose, const Eigen::Matrix3d& covariance) override;
+  using Localizer2D::update;
   [[nodiscard]] LocalizationResult update(const OdometryStep& odometry,
-                                          const LaserScan& scan) override;
+                                          const ScanPoints& observations) override;
   [[nodiscard]] std::string name() const override { return name_; }
 
  private:

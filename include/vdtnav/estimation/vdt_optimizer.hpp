@@ -136,8 +136,9 @@ class VdtOptimizationLocalizer final : public Localizer2D {
   VdtOptimizationLocalizer(const VdtMap2& map, const VdtOptimizerOptions& options = {},
                            std::string name = "vdt-opt");
   void reset(const Pose2& pose, const Eigen::Matrix3d& covariance) override;
+  using Localizer2D::update;
   [[nodiscard]] LocalizationResult update(const OdometryStep& odometry,
-                                          const LaserScan& scan) override;
+                                          const ScanPoints& observations) override;
   [[nodiscard]] std::string name() const override { return name_; }
 
  private:

@@ -43,6 +43,7 @@ using ScanPoints = ObservationSet<2>;
 [[nodiscard]] inline ScanPoints scan_points(const LaserScan& scan) {
   ScanPoints out;
   out.sigma_range = scan.sigma_range;
+  out.range_max = scan.range_max;
   const double cm = std::cos(scan.mount[2]), sm = std::sin(scan.mount[2]);
   for (std::size_t i = 0; i < scan.ranges.size(); ++i) {
     const double r = scan.ranges[i];

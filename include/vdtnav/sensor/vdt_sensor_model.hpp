@@ -66,9 +66,11 @@ template <int Dim>
 struct BeamDisparityT {
   using Vector = typename SpaceTraits<Dim>::Vector;
   using PoseJacobian = typename PoseTraits<Dim>::PointJacobian;
+  using Matrix = typename SpaceTraits<Dim>::Matrix;
   Vector d = Vector::Zero();                   ///< d_i (2.12)
   PoseJacobian d_pose = PoseJacobian::Zero();  ///< dd_i/dX (Dim x DoF)
-  Vector d_range = Vector::Zero();             ///< dd_i/dr_i
+  Vector d_range = Vector::Zero();             ///< dd_i/dr_i = d_point u_i
+  Matrix d_point = Matrix::Zero();             ///< dd_i/dp_i = J R (robot-frame point)
   bool inside = false;                         ///< endpoint inside the map
   bool inlier = false;                         ///< inside and passes the gate
 };
@@ -79,8 +81,10 @@ template <int Dim>
 struct BeamCurvatureT {
   using Hessian = typename PoseTraits<Dim>::Covariance;
   using Cross = typename PoseTraits<Dim>::Tangent;
-  Hessian hessian = Hessian::Zero();  ///< d^2(|d_i|^2/2)/dX^2
-  Cross cross = Cross::Zero();        ///< d^2(|d_i|^2/2)/dX dr_i
+  using CrossPoint = Eigen::Matrix<double, PoseTraits<Dim>::kDoF, Dim>;
+  Hessian hessian = Hessian::Zero();             ///< d^2(|d_i|^2/2)/dX^2
+  Cross cross = Cross::Zero();                   ///< d^2(|d_i|^2/2)/dX dr_i = cross_point u_i
+  CrossPoint cross_point = CrossPoint::Zero();   ///< d^2(|d_i|^2/2)/dX dp_i (robot-frame point)
 };
 
 /// \brief The VDT sensor model of one map (aliases VdtSensorModel for 2D, VdtSensorModel3 for
@@ -135,6 +139,10 @@ class VdtSensorModelT {
 
   /// \brief Dim x Dim covariance of d_i from the range noise (and the map-noise floor).
   [[nodiscard]] Matrix disparity_covariance(const Disparity& b, double sigma_range) const;
+
+  /// \brief Dim x Dim covariance of d_i from a point covariance (robot frame) and the map-noise
+  /// floor: d_point cov d_point^T + sigma_map^2 I (the diagonal mode keeps only its diagonal).
+  [[nodiscard]] Matrix disparity_covariance_point(const Disparity& b, const Matrix& cov) const;
 
   /// \brief d_VCD (2.17) over the inlier readings at pose X; counts inliers if asked.
   [[nodiscard]] double vector_chamfer_distance(const Pose& pose, const Observations& observations,
