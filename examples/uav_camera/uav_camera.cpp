@@ -94,11 +94,13 @@ int main(int argc, char** argv) {
   std::size_t frames = 1200;
   double altitude = 15.0;
   std::string texture_path;
+  bool verbose = false;
   app.add_option("--out", out, "output folder")->capture_default_str();
   app.add_option("--seed", seed, "seed of the scene's texture, the flight and all noise")
       ->capture_default_str();
-  app.add_option("--frames", frames, "frames at 10 Hz")->capture_default_str()->check(
-      CLI::Range(std::size_t{20}, std::size_t{100000}));
+  app.add_option("--frames", frames, "frames at 10 Hz")
+      ->capture_default_str()
+      ->check(CLI::Range(std::size_t{20}, std::size_t{100000}));
   app.add_option("--altitude", altitude,
                  "mean altitude, m; the flight climbs and descends by a third of it")
       ->capture_default_str()
@@ -106,6 +108,7 @@ int main(int argc, char** argv) {
   app.add_option("--texture", texture_path,
                  "a photograph laid on the ground instead of the runway (its edges are the map)")
       ->check(CLI::ExistingFile);
+  app.add_flag("--verbose", verbose, "one line per frame: points, explained fraction, status");
   CLI11_PARSE(app, argc, argv);
 
   try {
@@ -143,15 +146,14 @@ int main(int argc, char** argv) {
       EdgeOptions eo;  // the map: every edge of the photograph, no subsampling
       eo.max_points = 0;
       boundaries = edge_grid(img, photo_resolution, origin, eo);
-      scene.runway = Eigen::AlignedBox2d(origin, origin + Eigen::Vector2d(img.cols, img.rows) *
-                                                              photo_resolution);
+      scene.runway = Eigen::AlignedBox2d(
+          origin, origin + Eigen::Vector2d(img.cols, img.rows) * photo_resolution);
     } else {
       save_marking_map(map_prefix, scene);
       // The user's path: the map_server YAML + PNG read back.
       boundaries = marking_boundaries(occupancy(load_ros_map(map_prefix + ".yaml")));
     }
-    const VdtMap2 map =
-        photo ? VdtMap2::build(boundaries) : load_marking_map(map_prefix + ".yaml");
+    const VdtMap2 map = photo ? VdtMap2::build(boundaries) : load_marking_map(map_prefix + ".yaml");
     std::printf("[map] %d x %d cells at %.3f m\n", boundaries.size().x(), boundaries.size().y(),
                 boundaries.frame().resolution());
 
@@ -188,6 +190,7 @@ int main(int argc, char** argv) {
     search.search_below = 0.5;
     search.accept_fraction = 0.25;
     search.reentry_fraction = 0.4;
+    search.check_every_jump = true;  // the eight's legs and lane lines repeat
     search.truncation = 0.5;
     search.max_window_xy = 6.0;
     search.max_window_yaw = 0.6;
@@ -258,29 +261,35 @@ int main(int argc, char** argv) {
         shown_frame = frame;
       }
       // "Sees the road": at least min_explained edge points explained at the true pose.
-      features[k] = explained_fraction(truth_model, frame.observations, s.pose,
-                                       search.explained_distance) *
-                                static_cast<double>(frame.observations.size()) >=
-                            min_explained
-                        ? 1
-                        : 0;
+      features[k] =
+          explained_fraction(truth_model, frame.observations, s.pose, search.explained_distance) *
+                      static_cast<double>(frame.observations.size()) >=
+                  min_explained
+              ? 1
+              : 0;
       for (std::size_t m = 0; m < methods.size(); ++m) {
         const auto t1 = Clock::now();
-        const LocalizationResult r =
-            k == 0 ? methods[m]->update(OdometryStep{}, frame.observations)
-                   : methods[m]->update(s.odometry, frame.observations);
+        const LocalizationResult r = k == 0 ? methods[m]->update(OdometryStep{}, frame.observations)
+                                            : methods[m]->update(s.odometry, frame.observations);
         traces[m].ms += std::chrono::duration<double, std::milli>(Clock::now() - t1).count();
         traces[m].estimate.push_back(r.pose);
         traces[m].covariance.push_back(r.covariance);
-        traces[m].has_cov.push_back(r.has_covariance && r.status == LocalizationStatus::kConverged
-                                        ? 1
-                                        : 0);
+        traces[m].has_cov.push_back(
+            r.has_covariance && r.status == LocalizationStatus::kConverged ? 1 : 0);
         traces[m].status.push_back(r.status);
+      }
+      if (verbose) {
+        const Eigen::Vector3d e = pose_error(traces[0].estimate[k], s.pose);
+        std::printf(
+            "frame %zu: %zu points, explained at the truth %.2f, features %d, vdt-opt %s, "
+            "error %.3f m %.4f rad\n",
+            k, frame.observations.size(),
+            explained_fraction(truth_model, frame.observations, s.pose, search.explained_distance),
+            features[k], to_string(traces[0].status[k]), e.head<2>().norm(), e[2]);
       }
       if ((k + 1) % 100 == 0 || k + 1 == flight.size()) {
         std::printf("  frame %zu/%zu  edges %zu  vdt-opt error %.3f m\n", k + 1, flight.size(),
-                    n_edges[k],
-                    pose_error(traces[0].estimate[k], s.pose).head<2>().norm());
+                    n_edges[k], pose_error(traces[0].estimate[k], s.pose).head<2>().norm());
         std::fflush(stdout);
       }
     }
@@ -299,6 +308,7 @@ int main(int argc, char** argv) {
     std::printf("\n%-8s %6s %9s %9s %9s %18s %9s %8s\n", "method", "frames", "local.%", "pos[m]",
                 "yaw[rad]", "ANEES [95%]", "recov[s]", "ms");
     for (const Trace& t : traces) {
+      const bool has_cov = t.name != "udt-opt";
       std::vector<double> pos, yaw, nees_values;
       std::size_t localized = 0;
       for (std::size_t k = 0; k < flight.size(); ++k) {
@@ -307,7 +317,8 @@ int main(int argc, char** argv) {
         const Eigen::Vector3d e = pose_error(t.estimate[k], flight[k].pose);
         pos.push_back(e.head<2>().norm());
         yaw.push_back(e[2]);
-        if (t.has_cov[k]) nees_values.push_back(eval::nees(t.estimate[k], flight[k].pose, t.covariance[k]));
+        if (t.has_cov[k])
+          nees_values.push_back(eval::nees(t.estimate[k], flight[k].pose, t.covariance[k]));
       }
       // Re-acquisition: from each return of features after a feature-poor span, the time until
       // the position error is below 0.2 m.
@@ -325,7 +336,6 @@ int main(int argc, char** argv) {
       double recovery_s = 0.0;
       for (double r : recovery) recovery_s += r / static_cast<double>(recovery.size());
       if (recovery.empty()) recovery_s = std::nan("");
-      const bool has_cov = t.name != "udt-opt";
       double anees = std::nan(""), lo = std::nan(""), hi = std::nan("");
       if (has_cov && !nees_values.empty()) {
         const eval::AneesResult a = eval::anees(nees_values, 3);
@@ -338,29 +348,41 @@ int main(int argc, char** argv) {
       for (LocalizationStatus st : t.status) ++counts[static_cast<int>(st)];
       std::printf("  %s statuses: converged %d, not converged %d, too few %d, diverged %d\n",
                   t.name.c_str(), counts[0], counts[1], counts[2], counts[3]);
+      if (has_cov) {  // per-component normalised squared errors: which one is off
+        Eigen::Vector3d z = Eigen::Vector3d::Zero();
+        int nz = 0;
+        for (std::size_t k = 0; k < flight.size(); ++k) {
+          if (!features[k] || !t.has_cov[k]) continue;
+          const Eigen::Vector3d e = pose_error(t.estimate[k], flight[k].pose);
+          for (int c = 0; c < 3; ++c) z[c] += e[c] * e[c] / t.covariance[k](c, c);
+          ++nz;
+        }
+        if (nz > 0) z /= nz;
+        std::printf("  %s mean e^2/sigma^2: x %.2f, y %.2f, yaw %.2f (1 when calibrated)\n",
+                    t.name.c_str(), z[0], z[1], z[2]);
+      }
       const double ms = t.ms / flight.size() + mean_front_ms;
       char line[512];
       std::snprintf(line, sizeof line, "%s,%zu,%.2f,%.4f,%.5f,%.3f,%.3f,%.3f,%.2f,%.3f\n",
                     t.name.c_str(), flight.size(), pct, rms(pos), rms(yaw), anees, lo, hi,
                     recovery_s, ms);
       csv << line;
-      std::snprintf(line, sizeof line,
-                    "| %s | %zu | %.1f | %.4f | %.5f | %s | %s | %.2f |\n", t.name.c_str(),
-                    flight.size(), pct, rms(pos), rms(yaw),
-                    has_cov ? (std::to_string(anees).substr(0, 5) + " [" +
-                               std::to_string(lo).substr(0, 4) + ", " +
-                               std::to_string(hi).substr(0, 4) + "]")
-                                  .c_str()
-                            : "—",
-                    recovery.empty() ? "—" : std::to_string(recovery_s).substr(0, 4).c_str(), ms);
+      std::snprintf(
+          line, sizeof line, "| %s | %zu | %.1f | %.4f | %.5f | %s | %s | %.2f |\n", t.name.c_str(),
+          flight.size(), pct, rms(pos), rms(yaw),
+          has_cov ? (std::to_string(anees).substr(0, 5) + " [" + std::to_string(lo).substr(0, 4) +
+                     ", " + std::to_string(hi).substr(0, 4) + "]")
+                        .c_str()
+                  : "—",
+          recovery.empty() ? "—" : std::to_string(recovery_s).substr(0, 4).c_str(), ms);
       md << line;
       std::printf("%-8s %6zu %9.1f %9.4f %9.5f %8.2f [%.2f,%.2f] %9.2f %8.2f\n", t.name.c_str(),
                   flight.size(), pct, rms(pos), rms(yaw), anees, lo, hi, recovery_s, ms);
     }
     md << "\nFrames that see the road (>= " << min_explained
-       << " edge points explained at the true pose): " << with_features << " of "
-       << flight.size() << ". Front end (edges + ground projection): "
-       << std::to_string(mean_front_ms).substr(0, 4) << " ms per frame, included in ms/frame.\n";
+       << " edge points explained at the true pose): " << with_features << " of " << flight.size()
+       << ". Front end (edges + ground projection): " << std::to_string(mean_front_ms).substr(0, 4)
+       << " ms per frame, included in ms/frame.\n";
     std::printf("frames that see the road: %zu of %zu; front end %.2f ms per frame\n",
                 with_features, flight.size(), mean_front_ms);
 
@@ -393,10 +415,14 @@ int main(int argc, char** argv) {
       }
       ax.line(tx, ty, viz::Style().with_color({0, 0, 0}).with_width(1.5).with_label("truth"));
       ax.scatter(gx, gy,
-                 viz::Style().with_color({160, 160, 160}).with_marker(viz::Marker::kCircle, 5)
+                 viz::Style()
+                     .with_color({160, 160, 160})
+                     .with_marker(viz::Marker::kCircle, 5)
                      .with_label("feature-poor frames"));
       ax.scatter(ex, ey,
-                 viz::Style().with_color(viz::kColorCycle[0]).with_marker(viz::Marker::kCross, 5)
+                 viz::Style()
+                     .with_color(viz::kColorCycle[0])
+                     .with_marker(viz::Marker::kCross, 5)
                      .with_label("vdt-opt (converged)"));
       fig.save_png(out + "/trajectory.png");
     }
@@ -427,8 +453,7 @@ int main(int argc, char** argv) {
         }
         auto& ax = fig.axes(c, 0);
         ax.band(t, shade_lo, shade_hi,
-                viz::Style().with_color({150, 150, 150}).with_alpha(0.35).with_label(
-                    "no features"))
+                viz::Style().with_color({150, 150, 150}).with_alpha(0.35).with_label("no features"))
             .band(t, lo, hi, viz::Style().with_label("+-2 sigma"))
             .line(t, e, viz::Style().with_width(1.2).with_label("error"))
             .ylim(-span, span)
@@ -439,7 +464,8 @@ int main(int argc, char** argv) {
     }
     {  // One frame: its edges in the image, their ground points over the map
       viz::Figure fig(1800, 760, 1, 2);
-      fig.title("Frame " + std::to_string(shown) + ": edges (left) and their ground projections at "
+      fig.title("Frame " + std::to_string(shown) +
+                ": edges (left) and their ground projections at "
                 "the vdt-opt estimate (right)");
       std::vector<double> eu, ev;
       for (const auto& p : shown_frame.edges) {
@@ -447,11 +473,12 @@ int main(int argc, char** argv) {
         ev.push_back(calibration.height - 1 - p.y());
       }
       fig.axes(0, 0)
-          .image(to_rgb(shown_image), -0.5, calibration.width - 0.5, -0.5,
-                 calibration.height - 0.5)
+          .image(to_rgb(shown_image), -0.5, calibration.width - 0.5, -0.5, calibration.height - 0.5)
           .equal_aspect()
           .scatter(eu, ev,
-                   viz::Style().with_color({230, 30, 30}).with_marker(viz::Marker::kCircle, 3)
+                   viz::Style()
+                       .with_color({230, 30, 30})
+                       .with_marker(viz::Marker::kCircle, 3)
                        .with_label("edge pixels"))
           .xlabel("u [px]")
           .ylabel("image row from the bottom [px]");
@@ -470,7 +497,9 @@ int main(int argc, char** argv) {
           .xlim(truth[0] - half, truth[0] + half)
           .ylim(truth[1] - 0.75 * half, truth[1] + 0.75 * half)
           .scatter(gx, gy,
-                   viz::Style().with_color({230, 30, 30}).with_marker(viz::Marker::kCircle, 3)
+                   viz::Style()
+                       .with_color({230, 30, 30})
+                       .with_marker(viz::Marker::kCircle, 3)
                        .with_label("ground points"))
           .xlabel("x [m]")
           .ylabel("y [m]");

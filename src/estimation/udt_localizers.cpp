@@ -21,7 +21,8 @@ UdtBeam udt_beam(const DistanceFieldMap<2>& udt, const Pose2& pose, double c, do
   b.e_pose << smp.gradient.x(), smp.gradient.y(),
       smp.gradient.dot(Eigen::Vector2d(-rp.y(), rp.x()));
   b.e_range = smp.gradient.dot(ru);
-  b.e_point << smp.gradient.x() * c + smp.gradient.y() * s, -smp.gradient.x() * s + smp.gradient.y() * c;
+  b.e_point << smp.gradient.x() * c + smp.gradient.y() * s,
+      -smp.gradient.x() * s + smp.gradient.y() * c;
   b.inlier = smp.inside && std::abs(smp.value) < gate;
   return b;
 }
@@ -154,10 +155,11 @@ LocalizationResult UdtEkfLocalizer::update(const OdometryStep& odometry, const S
     if (!beam.inlier) continue;
     // Scalar observation noise: the range's, or a point covariance's (errors shared by every point
     // are not modelled by this baseline).
-    const double r = (pts.point_covariances.empty()
-                          ? s2 * beam.e_range * beam.e_range
-                          : double(beam.e_point * pts.point_covariances[i] * beam.e_point.transpose())) +
-                     m2;
+    const double r =
+        (pts.point_covariances.empty()
+             ? s2 * beam.e_range * beam.e_range
+             : double(beam.e_point * pts.point_covariances[i] * beam.e_point.transpose())) +
+        m2;
     info.noalias() += beam.e_pose.transpose() * beam.e_pose / r;
     b.noalias() += beam.e_pose.transpose() * (-beam.e) / r;  // innovation: expected DT_u is 0
     ++used;

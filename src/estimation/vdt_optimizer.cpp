@@ -537,9 +537,8 @@ bool VdtOptimizerT<Dim>::covariance(const Observations& scan, const Pose& pose,
       const BeamDisparityT<Dim> b = model_.disparity(r, t, scan.points[i], scan.directions[i]);
       const double w = loss_weight(options_.loss, options_.loss_scale, b.d.squaredNorm());
       h.noalias() += w * b.d_pose.transpose() * b.d_pose;
-      const auto cov_d = point_cov
-                             ? model_.disparity_covariance_point(b, scan.point_covariances[i])
-                             : model_.disparity_covariance(b, scan.sigma_range);
+      const auto cov_d = point_cov ? model_.disparity_covariance_point(b, scan.point_covariances[i])
+                                   : model_.disparity_covariance(b, scan.sigma_range);
       middle.noalias() += (w * w) * b.d_pose.transpose() * cov_d * b.d_pose;
       if (k_shared > 0) {
         shared.noalias() += w * b.d_pose.transpose() * b.d_point * scan.shared_jacobians[i];
@@ -573,9 +572,8 @@ bool VdtOptimizerT<Dim>::covariance(const Observations& scan, const Pose& pose,
     for (const int i : order) {
       if (!inliers[i]) continue;
       const BeamDisparityT<Dim> b = model_.disparity(r, t, scan.points[i], scan.directions[i]);
-      const auto cov_d = point_cov
-                             ? model_.disparity_covariance_point(b, scan.point_covariances[i])
-                             : model_.disparity_covariance(b, scan.sigma_range);
+      const auto cov_d = point_cov ? model_.disparity_covariance_point(b, scan.point_covariances[i])
+                                   : model_.disparity_covariance(b, scan.sigma_range);
       chi2 += b.d.dot(cov_d.ldlt().solve(b.d));
       ++n;
     }
@@ -636,11 +634,17 @@ LocalizationResult VdtOptimizationLocalizer::update(const OdometryStep& odometry
   // is often a wrong one: re-entry then asks for more of the scan explained. "Far": outside the
   // 99 % region of the propagated uncertainty (chi-square, 3 dof: 11.34).
   double accept = so.accept_fraction;
-  if (in_gap_ && usable(r)) {
+  if ((in_gap_ || so.check_every_jump) && usable(r)) {
     const Eigen::Vector3d e = pose_error(r.pose, guess);
     const Eigen::Matrix3d p =
         uncertainty_ + Eigen::Vector3d(1e-4, 1e-4, 1e-4).asDiagonal().toDenseMatrix();
     if (e.dot(p.ldlt().solve(e)) > 11.34) accept = std::max(accept, so.reentry_fraction);
+    // Where the pattern repeats, a solve can also slide along a straight stretch far beyond
+    // anything the window search could reach: such a solution is not trusted.
+    if (so.check_every_jump &&
+        (e.head<2>().norm() > so.max_window_xy || std::abs(e[2]) > so.max_window_yaw)) {
+      accept = 2.0;  // never
+    }
   }
   if (usable(r) && (!so.enabled || explained >= accept)) {
     pose_ = r.pose;

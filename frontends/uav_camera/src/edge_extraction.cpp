@@ -124,6 +124,21 @@ cv::Mat edge_image(const cv::Mat& image, const EdgeOptions& options, EdgeThresho
     edges.colRange(0, b).setTo(0);
     edges.colRange(cols - b, cols).setTo(0);
   }
+  if (options.min_chain > 1) {
+    // Short chains are texture (asphalt grain, grass, gravel), not the boundary of a marking:
+    // drop 8-connected edge chains of fewer than min_chain pixels.
+    cv::Mat labels, stats, centroids;
+    const int n = cv::connectedComponentsWithStats(edges, labels, stats, centroids, 8, CV_32S);
+    std::vector<char> keep(static_cast<std::size_t>(n), 0);
+    for (int k = 1; k < n; ++k) keep[k] = stats.at<int>(k, cv::CC_STAT_AREA) >= options.min_chain;
+    for (int r = 0; r < rows; ++r) {
+      const int* lr = labels.ptr<int>(r);
+      std::uint8_t* er = edges.ptr<std::uint8_t>(r);
+      for (int c = 0; c < cols; ++c) {
+        if (er[c] != 0 && !keep[lr[c]]) er[c] = 0;
+      }
+    }
+  }
   if (thresholds != nullptr) *thresholds = {low, high, sigma_n, g_median};
   return edges;
 }

@@ -37,6 +37,11 @@ struct GuessSearchOptions {
   /// After refused updates (the robot in a gap of the map), accept a solution only when it
   /// explains at least this fraction: partial matches on re-entry are often wrong ones.
   double reentry_fraction = 0.7;
+  /// Apply the re-entry test to every update, not only after refused ones: a solution outside the
+  /// 99 % region of the prediction must explain reentry_fraction. For maps whose pattern repeats
+  /// (a road's straight legs, lane lines), where a partial view fits several places; and refuse
+  /// a solution farther from the guess than the largest window (max_window_xy, max_window_yaw).
+  bool check_every_jump = false;
   double window_xy = 0.2;    ///< metres, half-width of the window in x and y
   double window_yaw = 0.2;   ///< radians, half-width in yaw
   int steps_xy = 3;          ///< candidates per axis in x and y (odd)

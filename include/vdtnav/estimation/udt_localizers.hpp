@@ -16,11 +16,11 @@ namespace vdtnav {
 
 /// \brief One beam on the UDT: residual DT_u(q) and its derivatives.
 struct UdtBeam {
-  double e = 0.0;                                          ///< DT_u(q_i)
-  Eigen::RowVector3d e_pose = Eigen::RowVector3d::Zero();  ///< d DT_u(q_i) / dX
-  double e_range = 0.0;                                    ///< d DT_u(q_i) / dr_i
-  Eigen::RowVector2d e_point = Eigen::RowVector2d::Zero(); ///< d DT_u(q_i) / dp_i (robot frame)
-  bool inlier = false;                                     ///< inside the map and DT_u < gate
+  double e = 0.0;                                           ///< DT_u(q_i)
+  Eigen::RowVector3d e_pose = Eigen::RowVector3d::Zero();   ///< d DT_u(q_i) / dX
+  double e_range = 0.0;                                     ///< d DT_u(q_i) / dr_i
+  Eigen::RowVector2d e_point = Eigen::RowVector2d::Zero();  ///< d DT_u(q_i) / dp_i (robot frame)
+  bool inlier = false;                                      ///< inside the map and DT_u < gate
 };
 
 /// \brief Evaluates a beam (robot-frame point p, unit direction u) at pose X on a UDT.

@@ -35,13 +35,13 @@ struct ObservationSet {
   static constexpr int kMaxShared = 6;
   using SharedJacobian = Eigen::Matrix<double, Dim, Eigen::Dynamic, 0, Dim, kMaxShared>;
 
-  std::vector<Vector> points;            ///< endpoints, robot frame
-  std::vector<Vector> directions;        ///< dp/dr (unit beam directions), robot frame
-  std::vector<double> ranges;            ///< the ranges kept
-  std::vector<std::size_t> beam;         ///< index of each kept reading in the source
-  double sigma_range = 0.0;              ///< range noise standard deviation, metres
+  std::vector<Vector> points;      ///< endpoints, robot frame
+  std::vector<Vector> directions;  ///< dp/dr (unit beam directions), robot frame
+  std::vector<double> ranges;      ///< the ranges kept
+  std::vector<std::size_t> beam;   ///< index of each kept reading in the source
+  double sigma_range = 0.0;        ///< range noise standard deviation, metres
   double range_max = std::numeric_limits<double>::infinity();  ///< sensor's no-return range, m
-  std::size_t dropped_not_finite = 0;    ///< NaN or inf readings
+  std::size_t dropped_not_finite = 0;                          ///< NaN or inf readings
   std::size_t dropped_out_of_range = 0;  ///< outside the sensor's valid range interval
   /// Per-point covariance, robot frame; empty: sigma_range^2 u_i u_i^T (range readings).
   std::vector<Matrix> point_covariances;

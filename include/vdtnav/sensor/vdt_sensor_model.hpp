@@ -82,9 +82,9 @@ struct BeamCurvatureT {
   using Hessian = typename PoseTraits<Dim>::Covariance;
   using Cross = typename PoseTraits<Dim>::Tangent;
   using CrossPoint = Eigen::Matrix<double, PoseTraits<Dim>::kDoF, Dim>;
-  Hessian hessian = Hessian::Zero();             ///< d^2(|d_i|^2/2)/dX^2
-  Cross cross = Cross::Zero();                   ///< d^2(|d_i|^2/2)/dX dr_i = cross_point u_i
-  CrossPoint cross_point = CrossPoint::Zero();   ///< d^2(|d_i|^2/2)/dX dp_i (robot-frame point)
+  Hessian hessian = Hessian::Zero();            ///< d^2(|d_i|^2/2)/dX^2
+  Cross cross = Cross::Zero();                  ///< d^2(|d_i|^2/2)/dX dr_i = cross_point u_i
+  CrossPoint cross_point = CrossPoint::Zero();  ///< d^2(|d_i|^2/2)/dX dp_i (robot-frame point)
 };
 
 /// \brief The VDT sensor model of one map (aliases VdtSensorModel for 2D, VdtSensorModel3 for

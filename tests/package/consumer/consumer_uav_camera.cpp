@@ -30,7 +30,8 @@ int main(int argc, char** argv) {
     const double u = 159.5 - p.y() * 30.0;
     on_edges += (std::abs(u - 99.5) < 1.5 || std::abs(u - 139.5) < 1.5) ? 1 : 0;
   }
-  const bool ok = f.observations.size() > 100 && on_edges == static_cast<int>(f.observations.size());
+  const bool ok =
+      f.observations.size() > 100 && on_edges == static_cast<int>(f.observations.size());
   std::printf("%zu ground points, %d on the bar's edges: %s\n", f.observations.size(), on_edges,
               ok ? "ok" : "WRONG");
   return ok ? 0 : 1;

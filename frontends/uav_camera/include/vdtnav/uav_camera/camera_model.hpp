@@ -15,8 +15,8 @@ namespace vdtnav::uav_camera {
 
 /// \brief Intrinsics and distortion of one camera.
 struct CameraCalibration {
-  int width = 0;   ///< image width, pixels
-  int height = 0;  ///< image height, pixels
+  int width = 0;                                                ///< image width, pixels
+  int height = 0;                                               ///< image height, pixels
   Eigen::Matrix3d camera_matrix = Eigen::Matrix3d::Identity();  ///< K = [fx 0 cx; 0 fy cy; 0 0 1]
   /// OpenCV order (k1, k2, p1, p2[, k3]); empty or all zero: no distortion.
   std::vector<double> distortion;

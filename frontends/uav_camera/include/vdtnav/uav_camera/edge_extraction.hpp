@@ -34,6 +34,10 @@ struct EdgeOptions {
   double noise_factor = 6.0;      ///< high threshold >= this times the noise gradient sigma_g
   std::size_t max_points = 2000;  ///< most edge pixels returned (0: all)
   int border = 3;                 ///< pixels ignored along the image border
+  /// Edge chains (8-connected) shorter than this many pixels are dropped: the boundary of a
+  /// marking or a field is a long chain, the grain of asphalt or grass makes short ones. 1: keep
+  /// all. The default, 30 px, is 0.8 m on the ground at 15 m with a 60 degree, 640 px camera.
+  int min_chain = 30;
 };
 
 /// \brief The thresholds the rule above gives for one image (for diagnostics and tests).

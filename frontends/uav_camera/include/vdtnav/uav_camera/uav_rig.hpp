@@ -21,7 +21,7 @@ struct UavRig {
   /// Camera pose in the body frame. Default: at the body origin, looking straight down, image
   /// top toward the front (camera x = -body y, camera y = -body x, camera z = -body z).
   Eigen::Isometry3d body_from_camera = default_body_from_camera();
-  Eigen::Vector3d laser_origin = Eigen::Vector3d::Zero();              ///< body frame, metres
+  Eigen::Vector3d laser_origin = Eigen::Vector3d::Zero();             ///< body frame, metres
   Eigen::Vector3d laser_direction = Eigen::Vector3d(0.0, 0.0, -1.0);  ///< body frame, unit
 
   [[nodiscard]] static Eigen::Isometry3d default_body_from_camera() {
