@@ -58,6 +58,7 @@ VdtEkfLocalizer::VdtEkfLocalizer(const VdtMap2& map, const VdtEkfOptions& option
   VDTNAV_CHECK(
       model_.map_sigma() > 0.0 || options.sensor.covariance == DisparityCovariance::kDiagonal,
       "EKF: the exact rank-one disparity covariance needs a map-noise floor > 0 to be invertible");
+  if (options.optimizer_start) start_ = std::make_unique<VdtOptimizer>(map, options.start);
 }
 
 void VdtEkfLocalizer::reset(const Pose2& pose, const Eigen::Matrix3d& covariance) {
@@ -76,6 +77,15 @@ LocalizationResult VdtEkfLocalizer::update(const OdometryStep& odometry, const S
   Pose2 xi = x_;
   if (so.enabled && explained_fraction(model_, pts, x_, so.explained_distance) < so.search_below) {
     xi = search_guess(model_, pts, x_, so, &p_);
+  }
+  if (start_ != nullptr) {
+    const LocalizationResult r = start_->solve(pts, xi);
+    if ((r.status == LocalizationStatus::kConverged ||
+         r.status == LocalizationStatus::kNotConverged) &&
+        explained_fraction(model_, pts, r.pose, so.explained_distance) >
+            explained_fraction(model_, pts, xi, so.explained_distance)) {
+      xi = r.pose;
+    }
   }
   // Errors every point shares (a camera's roll, pitch, altitude: ObservationSet) are not
   // independent per point: they join the state for this update as theta ~ N(0, cov(theta)), each

@@ -12,12 +12,14 @@
 ///   P+ = (P^-1 + sum_i H_i^T R_i^-1 H_i)^-1,   X+ = X + P+ sum_i H_i^T R_i^-1 nu_i
 /// which costs O(n) for n beams instead of inverting a 2n x 2n matrix.
 
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "vdtnav/estimation/guess_search.hpp"
 #include "vdtnav/estimation/localizer.hpp"
 #include "vdtnav/estimation/motion_model.hpp"
+#include "vdtnav/estimation/vdt_optimizer.hpp"
 #include "vdtnav/sensor/vdt_sensor_model.hpp"
 
 namespace vdtnav {
@@ -36,6 +38,14 @@ struct VdtEkfOptions {
   /// prediction (the prior still pulls toward the prediction), and an update that leaves the
   /// scan unexplained is refused (prediction only, kNotConverged). See guess_search.hpp.
   GuessSearchOptions search;
+  /// Start the iterations at the optimization localizer's solution from the prediction (its
+  /// coarse-to-fine pyramid, robust loss and gate rounds; `start` sets them) when that explains
+  /// more of the observations than the prediction: the Gauss-Newton iterations alone lock onto
+  /// the wrong one of two close, parallel edges (a painted line's two sides, 0.15 m apart) when
+  /// the prediction is off by more than half their spacing. The prior still pulls toward the
+  /// prediction; only the linearisation point changes.
+  bool optimizer_start = false;
+  VdtOptimizerOptions start;
 };
 
 /// \brief The batch EKF update with the 2n x 2n innovation covariance (reference for tests).
@@ -68,6 +78,7 @@ class VdtEkfLocalizer final : public Localizer2D {
  private:
   VdtSensorModel model_;
   VdtEkfOptions options_;
+  std::unique_ptr<VdtOptimizer> start_;  ///< options_.optimizer_start
   Pose2 x_ = Pose2::Zero();
   Eigen::Matrix3d p_ = Eigen::Matrix3d::Identity();
   std::string name_;
