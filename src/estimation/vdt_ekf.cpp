@@ -88,72 +88,50 @@ LocalizationResult VdtEkfLocalizer::update(const OdometryStep& odometry, const S
     }
   }
   // Errors every point shares (a camera's roll, pitch, altitude: ObservationSet) are not
-  // independent per point: they join the state for this update as theta ~ N(0, cov(theta)), each
-  // point's disparity moving with d_point G_i theta, and are marginalised out afterwards (the pose
-  // block of the joint covariance). Without them the state is the pose alone.
+  // independent per point. They are *considered*, not estimated (a Schmidt update): the pose is
+  // updated with theta at its mean 0, and its covariance gains the common-mode term
+  // S cov(theta) S^T with S = dX+/dtheta = info^-1 sum_i H_i^T R_i^-1 d_point_i G_i, the same
+  // treatment as the optimizer's (vdt_optimizer.hpp). Estimating theta jointly instead would let
+  // the frame's perspective (how a roll bends the ground mapping across the image) separate roll
+  // from translation: exact in the model, but edge and map biases of a few centimetres make that
+  // separation wrong by several sigma on rendered frames.
   const int k = pts.num_shared();
-  const int n = 3 + k;
-  using Info = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 3 + ScanPoints::kMaxShared,
-                             3 + ScanPoints::kMaxShared>;
-  using Vec = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 3 + ScanPoints::kMaxShared, 1>;
-  Info prior_info = Info::Zero(n, n);
-  prior_info.topLeftCorner<3, 3>() = p_.inverse();
-  if (k > 0) prior_info.bottomRightCorner(k, k) = pts.shared_covariance.inverse();
   const bool point_cov = !pts.point_covariances.empty();
-  Vec theta = Vec::Zero(n - 3);
-  Info info = prior_info;
-  Eigen::Matrix<double, 2, Eigen::Dynamic, 0, 2, 3 + ScanPoints::kMaxShared> hi(2, n);
+  const Eigen::Matrix3d prior_info = p_.inverse();
+  Eigen::Matrix3d info = prior_info;
+  Eigen::Matrix<double, 3, Eigen::Dynamic, 0, 3, ScanPoints::kMaxShared> cross(3, k);
   for (int it = 0; it < std::max(1, options_.max_iterations); ++it) {
-    // Gauss-Newton step on (z - z_pred)^T P_z^-1 (z - z_pred) + sum d^T R^-1 d from the iterate
-    // z_i = (X_i, theta_i); at z_i = z_pred this is the information-form update (3.13)-(3.21).
+    // Gauss-Newton step on (X - X_pred)^T P^-1 (X - X_pred) + sum d^T R^-1 d from the iterate
+    // X_i; at X_i = X_pred this is the information-form update (3.13)-(3.21).
     info = prior_info;
-    Vec b = Vec::Zero(n);
-    b.head<3>() = -p_.inverse() * pose_error(xi, x_);
-    if (k > 0) b.tail(k) = -prior_info.bottomRightCorner(k, k) * theta;
+    Eigen::Vector3d b = -prior_info * pose_error(xi, x_);
+    cross.setZero();
     int used = 0;
     for (std::size_t i = 0; i < pts.size(); ++i) {
-      // The point moved by the current estimate of the shared errors, p_i + G_i theta: the map is
-      // relinearised there (a 0.2 degree roll moves ground points by 5 cm at 15 m, about the
-      // width of a painted line, far beyond where the VDT is linear).
-      const Eigen::Vector2d p =
-          k > 0 ? Eigen::Vector2d(pts.points[i] + pts.shared_jacobians[i] * theta) : pts.points[i];
-      const BeamDisparity bd = model_.disparity(xi, p, pts.directions[i]);
+      const BeamDisparity bd = model_.disparity(xi, pts.points[i], pts.directions[i]);
       if (!bd.inlier) continue;
       ++used;
-      hi.leftCols<3>() = bd.d_pose;
-      const Eigen::Vector2d d = bd.d;
-      if (k > 0) hi.rightCols(k) = bd.d_point * pts.shared_jacobians[i];
       const Eigen::Matrix2d r_inv =
           (point_cov ? model_.disparity_covariance_point(bd, pts.point_covariances[i])
                      : model_.disparity_covariance(bd, pts.sigma_range))
               .inverse();
-      const Eigen::Matrix<double, Eigen::Dynamic, 2, 0, 3 + ScanPoints::kMaxShared, 2> htri =
-          hi.transpose() * r_inv;
-      info.noalias() += htri * hi;
-      b.noalias() -= htri * d;  // (3.12) corrected: innovation -d, the expected disparity is zero
+      const Eigen::Matrix<double, 3, 2> htri = bd.d_pose.transpose() * r_inv;
+      info.noalias() += htri * bd.d_pose;
+      b.noalias() -= htri * bd.d;  // (3.12) corrected: innovation -d, the expected disparity is 0
+      if (k > 0) cross.noalias() += htri * (bd.d_point * pts.shared_jacobians[i]);
     }
     result.inliers = used;
     if (result.inliers < options_.min_inliers) break;
-    const Vec step = info.ldlt().solve(b);
-    xi += step.head<3>();
+    const Eigen::Vector3d step = info.ldlt().solve(b);
+    xi += step;
     xi[2] = wrap_angle(xi[2]);
-    if (k > 0) theta += step.tail(k);
     result.iterations = it + 1;
     if (step.head<2>().norm() < 1e-5 && std::abs(step[2]) < 1e-5) break;
   }
   result.dropped = valid + invalid - result.inliers;
-  double explained = 0.0;
-  if (result.inliers >= options_.min_inliers) {
-    if (k > 0) {  // the points as the shared errors' estimate places them
-      ScanPoints moved = pts;
-      for (std::size_t i = 0; i < pts.size(); ++i) {
-        moved.points[i] += pts.shared_jacobians[i] * theta;
-      }
-      explained = explained_fraction(model_, moved, xi, so.explained_distance);
-    } else {
-      explained = explained_fraction(model_, pts, xi, so.explained_distance);
-    }
-  }
+  const double explained = result.inliers < options_.min_inliers
+                               ? 0.0
+                               : explained_fraction(model_, pts, xi, so.explained_distance);
   if (result.inliers < options_.min_inliers ||
       explained * static_cast<double>(valid) < options_.min_inliers) {
     result.status = LocalizationStatus::kTooFewObservations;  // prediction only
@@ -161,8 +139,13 @@ LocalizationResult VdtEkfLocalizer::update(const OdometryStep& odometry, const S
     result.status = LocalizationStatus::kNotConverged;  // the map does not explain the scan
   } else {
     x_ = xi;
-    // The pose block of the joint covariance: theta marginalised out.
-    const Eigen::Matrix3d pn = Info(info.inverse()).topLeftCorner<3, 3>();
+    const Eigen::Matrix3d info_inv = info.inverse();
+    Eigen::Matrix3d pn = info_inv;
+    if (k > 0) {
+      const Eigen::Matrix<double, 3, Eigen::Dynamic, 0, 3, ScanPoints::kMaxShared> sens =
+          info_inv * cross;  // dX+/dtheta (sign irrelevant in the product below)
+      pn.noalias() += sens * pts.shared_covariance * sens.transpose();
+    }
     p_ = 0.5 * (pn + pn.transpose());
     result.status = LocalizationStatus::kConverged;
   }

@@ -10,7 +10,9 @@
 /// update with S = H P H^T + R (3.13) and K = P H^T S^-1 (3.19, transpose restored) equals the
 /// information form
 ///   P+ = (P^-1 + sum_i H_i^T R_i^-1 H_i)^-1,   X+ = X + P+ sum_i H_i^T R_i^-1 nu_i
-/// which costs O(n) for n beams instead of inverting a 2n x 2n matrix.
+/// which costs O(n) for n beams instead of inverting a 2n x 2n matrix. Errors shared by every
+/// point of a set (a camera's attitude) are considered, not estimated (a Schmidt update): P+ gains
+/// S cov(theta) S^T, S = P+ sum_i H_i^T R_i^-1 d_point_i G_i (see vdt_ekf.cpp).
 
 #include <memory>
 #include <string>
