@@ -176,6 +176,10 @@ int main(int argc, char** argv) {
     co.noise.sigma_roll = fo.sigma_roll;
     co.noise.sigma_pitch = fo.sigma_pitch;
     co.noise.sigma_laser_range = fo.sigma_laser_range;
+    // Errors correlated along a line: the map's rasterisation of a marking (a staircase within
+    // +-half a cell: resolution / sqrt(12)), one offset per metre of line.
+    co.noise.sigma_correlated = map.resolution() / std::sqrt(12.0);
+    co.noise.correlation_length = 1.0;
     const UavCameraFrontEnd front(calibration, rig, co);
     const GroundRenderer renderer(calibration, rig);
 

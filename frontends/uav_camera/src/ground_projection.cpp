@@ -1,6 +1,8 @@
 #include "vdtnav/uav_camera/ground_projection.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <sstream>
 
 #include <Eigen/LU>
@@ -141,6 +143,25 @@ ObservationSet2 ground_observations(const std::vector<Eigen::Vector2d>& edge_pix
     const Eigen::Matrix2d cov = var_pixel * a * a.transpose();
     const ObservationSet2::SharedJacobian jac = g.d_attitude;
     out.add_point(g.p, cov, i, &jac);
+  }
+  if (noise.sigma_correlated > 0.0 && noise.correlation_length > 0.0 && out.size() > 0) {
+    // Effective sample size of the correlated errors: n points in one square count as one.
+    std::vector<std::int64_t> key(out.size());
+    for (std::size_t i = 0; i < out.size(); ++i) {
+      const auto cx =
+          static_cast<std::int64_t>(std::floor(out.points[i].x() / noise.correlation_length));
+      const auto cy =
+          static_cast<std::int64_t>(std::floor(out.points[i].y() / noise.correlation_length));
+      key[i] = (cx + (1 << 20)) * (1 << 21) + (cy + (1 << 20));
+    }
+    std::vector<std::int64_t> sorted = key;
+    std::sort(sorted.begin(), sorted.end());
+    const double s2 = noise.sigma_correlated * noise.sigma_correlated;
+    for (std::size_t i = 0; i < out.size(); ++i) {
+      const auto range = std::equal_range(sorted.begin(), sorted.end(), key[i]);
+      const double n = static_cast<double>(range.second - range.first);
+      out.point_covariances[i].diagonal().array() += n * s2;
+    }
   }
   return out;
 }

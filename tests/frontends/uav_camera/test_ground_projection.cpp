@@ -179,6 +179,39 @@ TEST(GroundProjection, ObservationsCarryTheSharedAttitudeErrors) {
   }
 }
 
+TEST(GroundProjection, CorrelatedErrorsCountOncePerSquare) {
+  // Level camera at 20 m: pixel (u, v) lies at (-h y_n, -h x_n) on the ground. Three pixels whose
+  // ground points share one 1 m square and one alone in another: the shared square's points get
+  // 3 sigma_c^2, the lone point 1 sigma_c^2, on top of the covariance without the option.
+  const PinholeCamera cam(wide_lens(false));
+  const UavRig rig;
+  const AttitudeReading a{0.0, 0.0, 20.0};
+  const double f = cam.calibration().camera_matrix(0, 0);
+  const double cx = cam.calibration().camera_matrix(0, 2);
+  const double cy = cam.calibration().camera_matrix(1, 2);
+  // Ground (x, y) -> pixel: x_n = -y / h, y_n = -x / h.
+  const auto pixel = [&](double x, double y) {
+    return Eigen::Vector2d(cx - f * y / 20.0, cy - f * x / 20.0);
+  };
+  const std::vector<Eigen::Vector2d> px{pixel(0.2, 0.3), pixel(0.7, 0.6), pixel(0.5, 0.9),
+                                        pixel(2.5, -1.5)};
+  GroundProjectionNoise plain;
+  GroundProjectionNoise correlated = plain;
+  correlated.sigma_correlated = 0.02;
+  correlated.correlation_length = 1.0;
+  const ObservationSet2 a0 = ground_observations(px, cam, rig, a, plain);
+  const ObservationSet2 a1 = ground_observations(px, cam, rig, a, correlated);
+  ASSERT_EQ(a1.size(), 4u);
+  const double s2 = 0.02 * 0.02;
+  for (std::size_t i = 0; i < 4; ++i) {
+    const double n = i < 3 ? 3.0 : 1.0;
+    const Eigen::Matrix2d extra = a1.point_covariances[i] - a0.point_covariances[i];
+    EXPECT_NEAR(extra(0, 0), n * s2, 1e-12) << i;
+    EXPECT_NEAR(extra(1, 1), n * s2, 1e-12) << i;
+    EXPECT_NEAR(extra(0, 1), 0.0, 1e-12) << i;
+  }
+}
+
 TEST(GroundProjection, PointCovarianceMatchesMonteCarlo) {
   const PinholeCamera cam(wide_lens());
   const UavRig rig = offset_rig();

@@ -23,6 +23,13 @@ struct GroundProjectionNoise {
   double sigma_roll = 0.2 * 3.14159265358979323846 / 180.0;   ///< IMU roll, radians (0.2 deg)
   double sigma_pitch = 0.2 * 3.14159265358979323846 / 180.0;  ///< IMU pitch, radians (0.2 deg)
   double sigma_laser_range = 0.05;                            ///< laser range, metres
+  /// Errors correlated along an observed line (an edge's bias, the map's rasterisation of the
+  /// marking): one offset of this standard deviation, metres, shared by the points within
+  /// correlation_length of each other, modelled as an effective sample size: every point of a
+  /// square of that size on the ground gets n sigma_correlated^2 I added to its covariance, n the
+  /// points in the square, so the square as a whole carries one sigma_correlated. 0: off.
+  double sigma_correlated = 0.0;
+  double correlation_length = 1.0;  ///< metres on the ground
 };
 
 /// \brief Largest |roll| and |pitch| (radians, 80 deg) at which a frame is projected at all.
