@@ -8,6 +8,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "vdtnav/core/error.hpp"
+#include "vdtnav/core/pose3.hpp"
 
 namespace vdtnav::uav_camera {
 namespace {
@@ -64,13 +65,7 @@ cv::Mat motion_blur_kernel(double length, double angle) {
 
 Eigen::Isometry3d body_pose(double x, double y, double altitude, double roll, double pitch,
                             double yaw) {
-  Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
-  t.linear() = (Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) *
-                Eigen::AngleAxisd(pitch, Eigen::Vector3d::UnitY()) *
-                Eigen::AngleAxisd(roll, Eigen::Vector3d::UnitX()))
-                   .toRotationMatrix();
-  t.translation() = Eigen::Vector3d(x, y, altitude);
-  return t;
+  return pose3_from_xyz_rpy(x, y, altitude, roll, pitch, yaw);  // R = Rz Ry Rx, as uav_rig.hpp
 }
 
 GroundRenderer::GroundRenderer(const CameraCalibration& calibration, const UavRig& rig)
