@@ -52,6 +52,7 @@ struct Trace {
   std::vector<Eigen::Matrix3d> covariance;
   std::vector<char> has_cov;
   std::vector<LocalizationStatus> status;
+  std::vector<int> iterations;
   double ms = 0.0;  // localizer time, all frames
 };
 
@@ -289,6 +290,7 @@ int main(int argc, char** argv) {
         traces[m].has_cov.push_back(
             r.has_covariance && r.status == LocalizationStatus::kConverged ? 1 : 0);
         traces[m].status.push_back(r.status);
+        traces[m].iterations.push_back(r.iterations);
       }
       if (verbose) {
         std::printf(
@@ -298,8 +300,8 @@ int main(int argc, char** argv) {
             features[k]);
         for (const Trace& t : traces) {
           const Eigen::Vector3d e = pose_error(t.estimate[k], s.pose);
-          std::printf(" | %s %s %.3f m %.4f rad", t.name.c_str(), to_string(t.status[k]),
-                      e.head<2>().norm(), e[2]);
+          std::printf(" | %s %s %.3f m %.4f rad %d it", t.name.c_str(), to_string(t.status[k]),
+                      e.head<2>().norm(), e[2], t.iterations[k]);
         }
         std::printf("\n");
       }
