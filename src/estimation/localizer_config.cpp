@@ -1,0 +1,437 @@
+#include "vdtnav/estimation/localizer_config.hpp"
+
+#include <yaml-cpp/yaml.h>
+
+#include <cmath>
+#include <cstdint>
+#include <fstream>
+#include <initializer_list>
+#include <iomanip>
+#include <limits>
+#include <set>
+#include <sstream>
+#include <utility>
+
+#include "vdtnav/core/error.hpp"
+
+namespace vdtnav {
+namespace {
+
+template <typename E>
+using Names = std::initializer_list<std::pair<const char*, E>>;
+
+const Names<GateMode> kGateModes{
+    {"components", GateMode::kComponents}, {"norm", GateMode::kNorm}, {"none", GateMode::kNone}};
+const Names<ResidualMode> kResidualModes{{"interpolated", ResidualMode::kInterpolated},
+                                         {"nearest_point", ResidualMode::kNearestPoint}};
+const Names<DisparityCovariance> kDisparityCovariances{
+    {"exact_rank_one", DisparityCovariance::kExactRankOne},
+    {"diagonal", DisparityCovariance::kDiagonal}};
+const Names<TrustRegion> kTrustRegions{{"levenberg_marquardt", TrustRegion::kLevenbergMarquardt},
+                                       {"dogleg", TrustRegion::kDogleg}};
+const Names<RobustLoss> kLosses{
+    {"none", RobustLoss::kNone}, {"huber", RobustLoss::kHuber}, {"cauchy", RobustLoss::kCauchy}};
+const Names<CovarianceMethod> kCovarianceMethods{
+    {"implicit_function", CovarianceMethod::kImplicitFunction},
+    {"gauss_newton", CovarianceMethod::kGaussNewton}};
+const Names<MotionModelKind> kMotionModels{
+    {"velocity", MotionModelKind::kVelocity},
+    {"odometry_increment", MotionModelKind::kOdometryIncrement}};
+
+// ------------------------------------------------------------------ the keys, once
+// Each visit() names every key of one options struct with its unit and meaning; the reader and
+// the writer below walk the same list, so the file and its documentation cannot disagree.
+
+template <typename V>
+void visit(V& v, VdtSensorModelOptions& o) {
+  v.choice("gate_mode", o.gate_mode, kGateModes,
+           "gate (3.3): components = every |DT_c| < gate, norm = |DT_v| < gate, none");
+  v.number("gate", o.gate, "m", "alpha of (3.3): readings farther than this from the map drop out");
+  v.choice("residual", o.residual, kResidualModes,
+           "interpolated = the C2 B-spline of DT_v, nearest_point = p - c(cell(p))");
+  v.choice("covariance", o.covariance, kDisparityCovariances,
+           "disparity covariance: exact_rank_one = sigma_r^2 j j^T + sigma_map^2 I, "
+           "diagonal = the thesis's (2.13)");
+  v.number("map_sigma", o.map_sigma, "m",
+           "map-noise floor per component; < 0: resolution / sqrt(12) (cell quantisation)");
+}
+
+template <typename V>
+void visit(V& v, MotionNoise& o) {
+  v.number("sigma_v", o.sigma_v, "m/s", "velocity model: translational velocity noise");
+  v.number("sigma_w", o.sigma_w, "rad/s", "velocity model: rotational velocity noise");
+  v.number("floor_xy_rate", o.floor_xy_rate, "m/s", "velocity model: position noise floor");
+  v.number("floor_yaw_rate", o.floor_yaw_rate, "rad/s", "velocity model: heading noise floor");
+  v.number("a_tt", o.a_tt, "m/m", "odometry increment: translation noise per metre travelled");
+  v.number("a_tr", o.a_tr, "m/rad", "odometry increment: translation noise per radian turned");
+  v.number("a_rr", o.a_rr, "rad/rad", "odometry increment: rotation noise per radian turned");
+  v.number("a_rt", o.a_rt, "rad/m", "odometry increment: rotation noise per metre travelled");
+  v.number("floor_t", o.floor_t, "m", "odometry increment: translation noise per step");
+  v.number("floor_r", o.floor_r, "rad", "odometry increment: rotation noise per step");
+}
+
+template <typename V>
+void visit(V& v, GuessSearchOptions& o) {
+  v.flag("enabled", o.enabled, "window search and acceptance test (guess_search.hpp)");
+  v.number("explained_distance", o.explained_distance, "m",
+           "a reading with |d| below this is explained");
+  v.number("search_below", o.search_below, "fraction",
+           "search a window when the solution explains less than this");
+  v.number("accept_fraction", o.accept_fraction, "fraction",
+           "refuse a solution explaining less (prediction kept)");
+  v.number("reentry_fraction", o.reentry_fraction, "fraction",
+           "after refused updates: a solution outside the 99 % region must explain this");
+  v.flag("check_every_jump", o.check_every_jump,
+         "apply the re-entry test to every update (maps whose pattern repeats)");
+  v.number("window_xy", o.window_xy, "m", "half-width of the window in x and y");
+  v.number("window_yaw", o.window_yaw, "rad", "half-width of the window in yaw");
+  v.integer("steps_xy", o.steps_xy, "count", "candidates per axis in x and y (odd)");
+  v.integer("steps_yaw", o.steps_yaw, "count", "candidates in yaw (odd)");
+  v.number("truncation", o.truncation, "m", "tau of the truncated VCD that scores candidates");
+  v.size("max_beams", o.max_beams, "count", "readings scoring a candidate (0: all)");
+  v.number("window_sigmas", o.window_sigmas, "sigma",
+           "the window grows to this many standard deviations of the prediction");
+  v.number("max_window_xy", o.max_window_xy, "m", "largest half-width in x and y");
+  v.number("max_window_yaw", o.max_window_yaw, "rad", "largest half-width in yaw");
+  v.section("odometry_noise", "vdt-opt: uncertainty growth while updates are refused",
+            [&](V& s) { visit(s, o.odometry_noise); });
+}
+
+template <typename V>
+void visit(V& v, LocalScanMapOptions& o) {
+  v.flag("enabled", o.enabled, "match unexplained scans against the recent scans (gap bridging)");
+  v.integer("scans", o.scans, "count", "recent scans in the local map");
+  v.number("resolution", o.resolution, "m", "cell size of the local map");
+  v.number("radius", o.radius, "m", "endpoints farther than this from the guess are left out");
+  v.number("accept_fraction", o.accept_fraction, "fraction",
+           "use a match explaining at least this fraction");
+  v.number("uncertainty_growth", o.uncertainty_growth, "fraction",
+           "a bridged step grows the uncertainty by this share of the odometry's");
+}
+
+template <typename V>
+void visit(V& v, VdtOptimizerOptions& o) {
+  v.section("sensor", "the VDT sensor model", [&](V& s) { visit(s, o.sensor); });
+  v.choice("trust_region", o.trust_region, kTrustRegions, "Ceres trust-region strategy");
+  v.choice("loss", o.loss, kLosses, "robust loss on each reading's squared disparity");
+  v.number("loss_scale", o.loss_scale, "m", "where the robust loss departs from quadratic");
+  v.choice("covariance_method", o.covariance, kCovarianceMethods,
+           "implicit_function = (3.4) with the full Hessian, gauss_newton = sandwich");
+  v.integer("max_iterations", o.max_iterations, "count", "solver iterations per solve");
+  v.integer("gate_rounds", o.gate_rounds, "count",
+            "re-gate at the solution and solve again while the inliers change");
+  v.integer("min_inliers", o.min_inliers, "count", "fewer usable readings: too few observations");
+  v.integer("pyramid_levels", o.pyramid_levels, "count",
+            "coarse-to-fine levels for poor guesses; < 0: 2 in 2D");
+  v.number("coarse_threshold", o.coarse_threshold, "m",
+           "median disparity above which the coarse levels run; < 0: 0.1 m in 2D");
+  v.flag("variance_factor", o.variance_factor,
+         "scale the covariance by the a posteriori variance factor when > 1");
+  v.section("search", "window search and acceptance", [&](V& s) { visit(s, o.search); });
+  v.section("bridge", "gap bridging by scan-to-scan matching", [&](V& s) { visit(s, o.bridge); });
+}
+
+template <typename V>
+void visit(V& v, VdtEkfOptions& o) {
+  v.section("sensor", "the VDT sensor model", [&](V& s) { visit(s, o.sensor); });
+  v.choice("motion", o.motion, kMotionModels,
+           "prediction: velocity (3.7)-(3.10) or odometry_increment");
+  v.section("noise", "motion noise of the prediction", [&](V& s) { visit(s, o.noise); });
+  v.integer("min_inliers", o.min_inliers, "count", "fewer usable readings: prediction only");
+  v.integer("max_iterations", o.max_iterations, "count",
+            "iterated-EKF relinearisations (1: classic EKF)");
+  v.section("search", "window search and acceptance", [&](V& s) { visit(s, o.search); });
+  v.flag("optimizer_start", o.optimizer_start,
+         "start the iterations at the optimizer's solution (settings: start)");
+  v.section("start", "the optimizer that gives the start (keys of vdt-opt)",
+            [&](V& s) { visit(s, o.start); });
+}
+
+template <typename V>
+void visit(V& v, UdtOptions& o) {
+  v.number("gate", o.gate, "m", "readings with DT_u >= gate are dropped");
+  v.number("map_sigma", o.map_sigma, "m", "EKF map-noise floor; < 0: resolution / sqrt(12)");
+  v.integer("min_inliers", o.min_inliers, "count", "fewer usable readings: too few observations");
+  v.integer("max_iterations", o.max_iterations, "count", "solver iterations (udt-opt)");
+  v.choice("motion", o.motion, kMotionModels, "udt-ekf prediction model");
+  v.section("noise", "udt-ekf motion noise", [&](V& s) { visit(s, o.noise); });
+}
+
+template <typename V>
+void visit(V& v, ParticleFilterOptions& o) {
+  v.integer("particles", o.particles, "count", "particles when kld is off");
+  v.integer("max_beams", o.max_beams, "count", "readings used per scan (amcl laser_max_beams)");
+  v.number("alpha1", o.alpha1, "-", "rotation noise from rotation (amcl odom_alpha1)");
+  v.number("alpha2", o.alpha2, "-", "rotation noise from translation (amcl odom_alpha2)");
+  v.number("alpha3", o.alpha3, "-", "translation noise from translation (amcl odom_alpha3)");
+  v.number("alpha4", o.alpha4, "-", "translation noise from rotation (amcl odom_alpha4)");
+  v.number("z_hit", o.z_hit, "-", "weight of the hit term (amcl laser_z_hit)");
+  v.number("z_rand", o.z_rand, "-", "weight of the random term (amcl laser_z_rand)");
+  v.number("sigma_hit", o.sigma_hit, "m", "std. dev. of the hit term (amcl laser_sigma_hit)");
+  v.number("max_likelihood_distance", o.max_likelihood_distance, "m",
+           "likelihood-field clamp (amcl laser_likelihood_max_dist)");
+  v.flag("kld", o.kld, "adapt the particle count by KLD-sampling");
+  v.integer("min_particles", o.min_particles, "count", "KLD lower bound");
+  v.integer("max_particles", o.max_particles, "count", "KLD upper bound and count after reset");
+  v.number("kld_err", o.kld_err, "-", "KLD bound epsilon, in (0, 1)");
+  v.number("kld_z", o.kld_z, "-", "upper standard normal quantile z_{1-delta}");
+  v.number("update_min_d", o.update_min_d, "m", "odometry travel before the filter runs");
+  v.number("update_min_a", o.update_min_a, "rad", "odometry turn before the filter runs");
+  v.uint32("seed", o.seed, "-", "random seed");
+}
+
+template <typename V>
+void visit_section(V& v, const std::string& section, LocalizerSettings& s) {
+  if (section == "vdt-opt") visit(v, s.vdt_opt);
+  if (section == "vdt-ekf") visit(v, s.vdt_ekf);
+  if (section == "udt") visit(v, s.udt);
+  if (section == "pf") visit(v, s.pf);
+}
+
+const char* section_doc(const std::string& section) {
+  if (section == "vdt-opt") return "optimization localizer on the VDT (thesis 3.2)";
+  if (section == "vdt-ekf") return "EKF on the VDT (thesis 3.3)";
+  if (section == "udt") return "UDT baselines udt-opt and udt-ekf (chamfer matching)";
+  return "particle filter (AMCL's likelihood field)";
+}
+
+const std::vector<std::string>& sections() {
+  static const std::vector<std::string> kSections{"vdt-opt", "vdt-ekf", "udt", "pf"};
+  return kSections;
+}
+
+// ------------------------------------------------------------------ reader
+class Reader {
+ public:
+  Reader(const YAML::Node& node, std::string source, std::string path)
+      : node_(node), source_(std::move(source)), path_(std::move(path)) {
+    if (!node_.IsMap()) fail(node_, "expected a mapping of keys");
+  }
+
+  void number(const char* key, double& x, const char*, const char*) {
+    const YAML::Node n = take(key);
+    if (!n) return;
+    double v = 0.0;
+    if (!n.IsScalar() || !YAML::convert<double>::decode(n, v) || !std::isfinite(v))
+      fail(n, std::string("expected a finite number, got '") + text(n) + "'", key);
+    x = v;
+  }
+  void integer(const char* key, int& x, const char*, const char*) {
+    long long v = 0;
+    if (read_integer(key, &v, std::numeric_limits<int>::min(), std::numeric_limits<int>::max()))
+      x = static_cast<int>(v);
+  }
+  void size(const char* key, std::size_t& x, const char*, const char*) {
+    long long v = 0;
+    if (read_integer(key, &v, 0, std::numeric_limits<int>::max())) x = static_cast<std::size_t>(v);
+  }
+  void uint32(const char* key, std::uint32_t& x, const char*, const char*) {
+    long long v = 0;
+    if (read_integer(key, &v, 0, std::numeric_limits<std::uint32_t>::max()))
+      x = static_cast<std::uint32_t>(v);
+  }
+  void flag(const char* key, bool& x, const char*) {
+    const YAML::Node n = take(key);
+    if (!n) return;
+    bool v = false;
+    if (!n.IsScalar() || !YAML::convert<bool>::decode(n, v))
+      fail(n, std::string("expected true or false, got '") + text(n) + "'", key);
+    x = v;
+  }
+  template <typename E>
+  void choice(const char* key, E& x, const Names<E>& names, const char*) {
+    const YAML::Node n = take(key);
+    if (!n) return;
+    const std::string s = n.IsScalar() ? n.Scalar() : "";
+    std::string known;
+    for (const auto& [name, value] : names) {
+      if (s == name) {
+        x = value;
+        return;
+      }
+      known += (known.empty() ? "" : ", ") + std::string(name);
+    }
+    fail(n, "expected one of " + known + ", got '" + text(n) + "'", key);
+  }
+  template <typename F>
+  void section(const char* key, const char*, F body) {
+    const YAML::Node n = take(key);
+    if (!n) return;
+    Reader sub(n, source_, path_ + "." + key);
+    body(sub);
+    sub.check_unknown();
+  }
+
+  /// Any key of this mapping that no visit() named is a typo or a key of another version.
+  void check_unknown() const {
+    for (auto it = node_.begin(); it != node_.end(); ++it) {
+      const std::string key = it->first.as<std::string>();
+      if (used_.count(key) == 0) {
+        std::string known;
+        for (const std::string& k : known_) known += (known.empty() ? "" : ", ") + k;
+        fail(it->first, "unknown key (known: " + known + ")", key);
+      }
+    }
+  }
+
+ private:
+  YAML::Node take(const char* key) {
+    known_.emplace_back(key);
+    used_.insert(key);
+    const YAML::Node& map = node_;  // const: a missing key is not inserted
+    const YAML::Node n = map[key];
+    if (n && n.IsNull()) fail(n, "expected a value", key);
+    return n;
+  }
+  bool read_integer(const char* key, long long* out, long long lo, long long hi) {
+    const YAML::Node n = take(key);
+    if (!n) return false;
+    long long v = 0;
+    if (!n.IsScalar() || !YAML::convert<long long>::decode(n, v) || v < lo || v > hi)
+      fail(n,
+           std::string("expected an integer in [") + std::to_string(lo) + ", " +
+               std::to_string(hi) + "], got '" + text(n) + "'",
+           key);
+    *out = v;
+    return true;
+  }
+  static std::string text(const YAML::Node& n) {
+    if (n.IsScalar()) return n.Scalar();
+    return n.IsMap() ? "a mapping" : n.IsSequence() ? "a sequence" : "nothing";
+  }
+  [[noreturn]] void fail(const YAML::Node& n, const std::string& what,
+                         const std::string& key = "") const {
+    const int line = n.Mark().line >= 0 ? n.Mark().line + 1 : 0;
+    throw ConfigError(source_ + ":" + std::to_string(line) + ": " + path_ +
+                      (key.empty() ? "" : "." + key) + ": " + what);
+  }
+
+  YAML::Node node_;
+  std::string source_;
+  std::string path_;
+  std::vector<std::string> known_;
+  std::set<std::string> used_;
+};
+
+// ------------------------------------------------------------------ writer
+class Writer {
+ public:
+  explicit Writer(std::ostringstream& out, int indent) : out_(out), indent_(indent) {}
+
+  void number(const char* key, double& x, const char* unit, const char* doc) {
+    std::ostringstream v;
+    v << std::setprecision(17) << x;
+    // Shortest representation that reads back to the same double.
+    for (int p = 1; p <= 17; ++p) {
+      std::ostringstream t;
+      t << std::setprecision(p) << x;
+      if (std::stod(t.str()) == x) {
+        v.str(t.str());
+        break;
+      }
+    }
+    line(key, v.str(), unit, doc);
+  }
+  void integer(const char* key, int& x, const char* unit, const char* doc) {
+    line(key, std::to_string(x), unit, doc);
+  }
+  void size(const char* key, std::size_t& x, const char* unit, const char* doc) {
+    line(key, std::to_string(x), unit, doc);
+  }
+  void uint32(const char* key, std::uint32_t& x, const char* unit, const char* doc) {
+    line(key, std::to_string(x), unit, doc);
+  }
+  void flag(const char* key, bool& x, const char* doc) { line(key, x ? "true" : "false", "", doc); }
+  template <typename E>
+  void choice(const char* key, E& x, const Names<E>& names, const char* doc) {
+    for (const auto& [name, value] : names) {
+      if (value == x) line(key, name, "", doc);
+    }
+  }
+  template <typename F>
+  void section(const char* key, const char* doc, F body) {
+    out_ << std::string(static_cast<std::size_t>(indent_), ' ') << key << ":  # " << doc << "\n";
+    Writer sub(out_, indent_ + 2);
+    body(sub);
+  }
+
+ private:
+  void line(const char* key, const std::string& value, const char* unit, const char* doc) {
+    std::string head = std::string(static_cast<std::size_t>(indent_), ' ') + key + ": " + value;
+    if (head.size() < 40) head.resize(40, ' ');
+    out_ << head << "  # " << (unit[0] != '\0' ? std::string("[") + unit + "] " : "") << doc
+         << "\n";
+  }
+
+  std::ostringstream& out_;
+  int indent_;
+};
+
+}  // namespace
+
+std::string localizer_config_section(const std::string& method) {
+  if (method == "udt-opt" || method == "udt-ekf") return "udt";
+  for (const std::string& s : sections()) {
+    if (s == method && s != "udt") return s;
+  }
+  std::string known;
+  for (const auto& m : localizer_methods()) known += (known.empty() ? "" : ", ") + m;
+  throw ConfigError("unknown localization method '" + method + "' (expected one of: " + known +
+                    ")");
+}
+
+LocalizerSettings parse_localizer_config(const std::string& text, const std::string& source,
+                                         const LocalizerSettings& defaults) {
+  YAML::Node root;
+  try {
+    root = YAML::Load(text);
+  } catch (const YAML::Exception& e) {
+    throw ConfigError(source + ":" + std::to_string(e.mark.line + 1) +
+                      ": malformed YAML: " + e.msg);
+  }
+  LocalizerSettings s = defaults;
+  if (!root || root.IsNull()) return s;  // an empty file: the defaults
+  if (!root.IsMap()) {
+    throw ConfigError(source + ":" + std::to_string(root.Mark().line + 1) +
+                      ": expected a mapping of sections (vdt-opt, vdt-ekf, udt, pf)");
+  }
+  for (auto it = root.begin(); it != root.end(); ++it) {
+    const std::string name = it->first.as<std::string>();
+    bool known = false;
+    for (const std::string& sec : sections()) known = known || sec == name;
+    if (!known) {
+      throw ConfigError(source + ":" + std::to_string(it->first.Mark().line + 1) +
+                        ": unknown section '" + name + "' (known: vdt-opt, vdt-ekf, udt, pf)");
+    }
+    Reader r(it->second, source, name);
+    visit_section(r, name, s);
+    r.check_unknown();
+  }
+  return s;
+}
+
+LocalizerSettings load_localizer_config(const std::string& path,
+                                        const LocalizerSettings& defaults) {
+  std::ifstream in(path);
+  VDTNAV_CHECK(in.good(), "cannot read the settings file '" + path + "'");
+  std::ostringstream text;
+  text << in.rdbuf();
+  return parse_localizer_config(text.str(), path, defaults);
+}
+
+std::string localizer_settings_yaml(const LocalizerSettings& settings, const std::string& method) {
+  const std::string only = method.empty() ? "" : localizer_config_section(method);
+  LocalizerSettings s = settings;  // the visitors take non-const references
+  std::ostringstream out;
+  out << "# vdtnav localizer settings: every key, [unit] and meaning (README, \"Settings "
+         "file\").\n";
+  for (const std::string& sec : sections()) {
+    if (!only.empty() && sec != only) continue;
+    out << sec << ":  # " << section_doc(sec) << "\n";
+    Writer w(out, 2);
+    visit_section(w, sec, s);
+  }
+  return out.str();
+}
+
+}  // namespace vdtnav
