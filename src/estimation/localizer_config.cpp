@@ -54,6 +54,10 @@ void visit(V& v, VdtSensorModelOptions& o) {
            "diagonal = the thesis's (2.13)");
   v.number("map_sigma", o.map_sigma, "m",
            "map-noise floor per component; < 0: resolution / sqrt(12) (cell quantisation)");
+  v.number("map_correlation_length", o.map_correlation_length, "m",
+           "readings within one square of this side share one map error; 0: independent");
+  v.number("map_pose_sigma", o.map_pose_sigma, "m",
+           "pose error of the map builder; < 0: resolution / 2; 0: an exact map");
 }
 
 template <typename V>

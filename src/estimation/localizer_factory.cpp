@@ -17,6 +17,11 @@ LocalizerSettings log_settings() {
   s.vdt_opt.loss_scale = 0.05;
   s.vdt_opt.search.search_below = 0.95;
   s.vdt_opt.max_iterations = 50;
+  // A map drawn from scans: its errors are shared along its walls (vdt_sensor_model.hpp).
+  for (VdtSensorModelOptions* o : {&s.vdt_opt.sensor, &s.vdt_ekf.sensor}) {
+    o->map_correlation_length = 2.0;
+    o->map_pose_sigma = -1.0;
+  }
   return s;
 }
 

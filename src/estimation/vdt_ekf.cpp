@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <unordered_map>
 #include <utility>
 
 #include <Eigen/Cholesky>
@@ -147,10 +149,36 @@ LocalizationResult VdtEkfLocalizer::update(const OdometryStep& odometry, const S
       pn.noalias() += sens * pts.shared_covariance * sens.transpose();
     }
     p_ = 0.5 * (pn + pn.transpose());
+    Eigen::Matrix3d map_term = Eigen::Matrix3d::Zero();
+    if (model_.map_sigma_correlated() > 0.0) {
+      // Map errors shared by the readings of one square of the map (VdtSensorModelOptions::
+      // map_correlation_length), considered like the shared errors above: per group k,
+      // S_k = info^-1 sum_{i in k} H_i^T R_i^-1 d_point_i and P+ gains S_k sigma_c^2 S_k^T.
+      const Eigen::Rotation2Dd rot(xi[2]);
+      std::unordered_map<std::int64_t, Eigen::Matrix<double, 3, 2>> groups;
+      for (std::size_t i = 0; i < pts.size(); ++i) {
+        const BeamDisparity bd = model_.disparity(xi, pts.points[i], pts.directions[i]);
+        if (!bd.inlier) continue;
+        const Eigen::Matrix2d r_inv =
+            (point_cov ? model_.disparity_covariance_point(bd, pts.point_covariances[i])
+                       : model_.disparity_covariance(bd, pts.sigma_range))
+                .inverse();
+        const Eigen::Vector2d world = rot * pts.points[i] + xi.head<2>();
+        auto [it, fresh] = groups.try_emplace(model_.map_error_group(world));
+        if (fresh) it->second.setZero();
+        it->second.noalias() += bd.d_pose.transpose() * r_inv * bd.d_point;
+      }
+      const double s2 = model_.map_sigma_correlated() * model_.map_sigma_correlated();
+      for (const auto& [key, c] : groups) {
+        const Eigen::Matrix<double, 3, 2> sens = info_inv * c;
+        map_term.noalias() += s2 * sens * sens.transpose();
+      }
+    }
+    result.covariance = p_ + 0.5 * (map_term + map_term.transpose());
     result.status = LocalizationStatus::kConverged;
   }
   result.pose = x_;
-  result.covariance = p_;
+  if (result.status != LocalizationStatus::kConverged) result.covariance = p_;
   result.has_covariance = true;
   return result;
 }

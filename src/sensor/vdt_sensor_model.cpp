@@ -1,5 +1,6 @@
 #include "vdtnav/sensor/vdt_sensor_model.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 
@@ -13,6 +14,26 @@ VdtSensorModelT<Dim>::VdtSensorModelT(const Map& map, const VdtSensorModelOption
   VDTNAV_CHECK(std::isfinite(options.gate) && options.gate >= 0.0,
                "sensor model: gate must be >= 0");
   map_sigma_ = options.map_sigma >= 0.0 ? options.map_sigma : map.resolution() / std::sqrt(12.0);
+  VDTNAV_CHECK(std::isfinite(options.map_correlation_length) &&
+                   options.map_correlation_length >= 0.0 && std::isfinite(options.map_pose_sigma),
+               "sensor model: map_correlation_length must be >= 0 and map_pose_sigma finite");
+  if (options.map_correlation_length > 0.0) {
+    const double res = map.resolution();
+    const double pose = options.map_pose_sigma >= 0.0 ? options.map_pose_sigma : 0.5 * res;
+    map_sigma_correlated_ = std::sqrt(res * res / 12.0 + pose * pose);
+  }
+}
+
+template <int Dim>
+std::int64_t VdtSensorModelT<Dim>::map_error_group(const Vector& world_point) const noexcept {
+  // 21 bits per axis: +-10^6 squares, +-2000 km at 2 m.
+  std::int64_t key = 0;
+  for (int c = 0; c < Dim; ++c) {
+    const double q = std::floor(world_point[c] / options_.map_correlation_length);
+    const auto cell = static_cast<std::int64_t>(std::max(-1e6, std::min(1e6, q))) + (1 << 20);
+    key = (key << 21) | cell;
+  }
+  return key;
 }
 
 template <int Dim>

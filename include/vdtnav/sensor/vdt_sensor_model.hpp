@@ -16,6 +16,7 @@
 /// and beams are gated (3.3) on the *magnitudes* of the signed components (SPEC).
 
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 #include <Eigen/Core>
@@ -58,6 +59,21 @@ struct VdtSensorModelOptions {
   /// (discretisation and interpolation), metres. Default: resolution / sqrt(12), the spread of a
   /// surface uniformly placed within a cell.
   double map_sigma = -1.0;  ///< < 0: resolution / sqrt(12)
+  /// Map errors correlated along the map's surfaces. A wall drawn off by a few centimetres is off
+  /// along its length, so the readings that hit it share one error which more readings do not
+  /// average away (on the Intel log the per-reading floor alone makes the pose covariance ~30x too
+  /// small, although the residuals themselves are only 1.2x larger than it predicts: the shared
+  /// part is absorbed by the pose). Model: the readings whose endpoints fall in one square (cube)
+  /// of side map_correlation_length, in the world frame, share an error e_k ~ N(0, sigma_c^2 I),
+  ///   sigma_c^2 = resolution^2 / 12 + map_pose_sigma^2,
+  /// the map's quantisation (a grid-aligned wall is one constant offset of the cell centres) and
+  /// the pose error of the scans it was drawn from. The estimators consider it (do not estimate
+  /// it): the pose covariance gains sum_k S_k sigma_c^2 S_k^T, S_k the sensitivity of the pose
+  /// to a common shift of group k's endpoints. 0: off (each reading's map error independent).
+  double map_correlation_length = 0.0;
+  /// Pose error of the map builder (the SLAM that drew the map), metres; < 0: resolution / 2, a
+  /// scan matcher's accuracy on a grid of that resolution; 0: an exact map (a floor plan).
+  double map_pose_sigma = 0.0;
 };
 
 /// \brief One reading's disparity and its derivatives at a pose (aliases BeamDisparity for 2D,
@@ -150,6 +166,11 @@ class VdtSensorModelT {
 
   [[nodiscard]] const VdtSensorModelOptions& options() const noexcept { return options_; }
   [[nodiscard]] double map_sigma() const noexcept { return map_sigma_; }
+  /// \brief sigma_c of the map error shared by a group of readings (0: the model is off).
+  [[nodiscard]] double map_sigma_correlated() const noexcept { return map_sigma_correlated_; }
+  /// \brief The group of a world-frame endpoint: a key of its square (cube) of side
+  /// options().map_correlation_length (call only when map_sigma_correlated() > 0).
+  [[nodiscard]] std::int64_t map_error_group(const Vector& world_point) const noexcept;
   [[nodiscard]] const Map& map() const noexcept { return *map_; }
 
  private:
@@ -158,6 +179,7 @@ class VdtSensorModelT {
   const Map* map_;
   VdtSensorModelOptions options_;
   double map_sigma_;
+  double map_sigma_correlated_ = 0.0;
 };
 
 extern template class VdtSensorModelT<2>;
