@@ -1,11 +1,13 @@
 // `vdtnav map`, `vdtnav localize` and `vdtnav eval` end to end on a short simulated CARMEN log:
 // the map is built from the log's (true) poses, the log's odometry fields drift like wheel
 // odometry, and the localized trajectory is checked against the simulator's ground truth, which
-// the test evaluates itself (independently of `vdtnav eval`, whose JSON must agree with it).
+// the test evaluates itself (independently of `vdtnav eval`, whose JSON must agree with it). Bad
+// inputs fail with the message a user needs (asserted on the text, not only the exit code).
 #include <gtest/gtest.h>
 #include <unistd.h>
 
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -104,6 +106,24 @@ const Fixture& fixture() {
   return f;
 }
 
+/// A log of `n` scans in which no beam returns (every range beyond --max-range), from `pose`.
+void write_no_return_log(const std::filesystem::path& path, const Pose2& pose, int n) {
+  CarmenLog log;
+  for (int k = 0; k < n; ++k) {
+    CarmenLaser l;
+    l.time = l.ipc_time = kT0 + 0.5 * k;
+    l.pose = l.odom = pose;
+    l.scan.ranges.assign(kBeams, 81.9);
+    set_flaser_geometry(kBeams, l.scan);
+    log.lasers.push_back(l);
+  }
+  save_carmen_log(path.string(), log);
+}
+
+bool contains(const std::string& text, const std::string& what) {
+  return text.find(what) != std::string::npos;
+}
+
 /// The value of `"key": number` after the first occurrence of `section` in a JSON text.
 double json_number(const std::string& js, const std::string& section, const std::string& key) {
   std::size_t p = js.find(section);
@@ -184,6 +204,15 @@ TEST(CliEndToEnd, MapLocalizeEvalRecoverTheSimulatedTrajectory) {
   EXPECT_NEAR(json_number(js, "\"ate_trans_m\"", "count"), static_cast<double>(f.run.size()), 0.5);
   EXPECT_NEAR(json_number(js, "\"relations\"", "used"), static_cast<double>(f.run.size() - 5), 0.5);
   EXPECT_LT(json_number(js, "\"relations\"", "trans_mean_m"), 0.04);  // measured 0.020 m
+  // The relation NEES: every relation's ends are scans with a covariance but a few.
+  EXPECT_NEAR(json_number(js, "\"relation_nees\"", "used") +
+                  json_number(js, "\"relation_nees\"", "skipped_no_covariance"),
+              static_cast<double>(f.run.size() - 5), 0.5)
+      << js;
+  EXPECT_GT(json_number(js, "\"relation_nees\"", "used"), 0.9 * (f.run.size() - 5)) << js;
+  EXPECT_GT(json_number(js, "\"relation_nees\"", "mean"), 0.0) << js;
+  EXPECT_GE(json_number(js, "\"relation_nees\"", "fraction_inside"), 0.0) << js;
+  EXPECT_TRUE(contains(read_all(d / "eval.txt"), "relation NEES (")) << read_all(d / "eval.txt");
 }
 
 TEST(CliEndToEnd, BadInputsFailWithAMessageNamingTheFile) {
@@ -197,6 +226,9 @@ TEST(CliEndToEnd, BadInputsFailWithAMessageNamingTheFile) {
                         (d / "bad.log").string() + " --out " + (d / "x.tum").string(),
                     d / "bad1.txt"),
             0);
+  EXPECT_TRUE(contains(read_all(d / "bad1.txt"),
+                       "--map: File does not exist: " + (d / "missing.yaml").string()))
+      << read_all(d / "bad1.txt");
   ASSERT_EQ(run_cli("map --log " + (d / "run.log").string() + " --resolution 0.1 --out " +
                         (d / "coarse").string() + " --quiet",
                     d / "coarse.txt"),
@@ -206,12 +238,173 @@ TEST(CliEndToEnd, BadInputsFailWithAMessageNamingTheFile) {
                   (d / "bad.log").string() + " --method vdt-opt --out " + (d / "x.tum").string(),
               d / "bad2.txt"),
       0);
-  EXPECT_NE(read_all(d / "bad2.txt").find("bad.log:1"), std::string::npos)
+  EXPECT_TRUE(contains(read_all(d / "bad2.txt"), "bad.log:1: FLASER: expected"))
       << read_all(d / "bad2.txt");
   EXPECT_NE(run_cli("localize --map " + (d / "coarse.yaml").string() + " --log " +
                         (d / "run.log").string() + " --method nope --out " + (d / "x.tum").string(),
                     d / "bad3.txt"),
             0);
+  EXPECT_TRUE(contains(read_all(d / "bad3.txt"), "--method: nope not in"))
+      << read_all(d / "bad3.txt");
+}
+
+TEST(CliEndToEnd, BadOptionsAreRefusedAndNothingIsWritten) {
+  const Fixture& f = fixture();
+  const std::filesystem::path d = f.dir / "options";
+  std::filesystem::create_directories(d);
+  const std::string log = (f.dir / "run.log").string();
+  ASSERT_EQ(
+      run_cli("map --log " + log + " --resolution 0.1 --out " + (d / "map").string() + " --quiet",
+              d / "map.txt"),
+      0)
+      << read_all(d / "map.txt");
+  const std::string localize = "localize --map " + (d / "map.yaml").string() + " --log " + log +
+                               " --out " + (d / "x.tum").string() + " ";
+
+  // A negative standard deviation (through the pose parser it was accepted).
+  EXPECT_NE(run_cli(localize + "--init-sigma 0.1,-0.1,0.05", d / "sigma.txt"), 0);
+  EXPECT_TRUE(contains(read_all(d / "sigma.txt"),
+                       "--init-sigma: expected three standard deviations sx,sy,syaw, finite and "
+                       ">= 0 (metres, metres, radians), got '0.1,-0.1,0.05'"))
+      << read_all(d / "sigma.txt");
+  EXPECT_FALSE(std::filesystem::exists(d / "x.tum"));
+
+  // An unknown time base.
+  EXPECT_NE(run_cli(localize + "--time-base gps", d / "time_base.txt"), 0);
+  EXPECT_TRUE(contains(read_all(d / "time_base.txt"), "--time-base: gps not in {logger,ipc}"))
+      << read_all(d / "time_base.txt");
+
+  // A negative or non-finite margin.
+  for (const char* margin : {"-1", "inf"}) {
+    EXPECT_NE(run_cli("map --log " + log + " --resolution 0.1 --margin " + margin + " --out " +
+                          (d / "m").string() + " --quiet",
+                      d / "margin.txt"),
+              0)
+        << margin;
+    EXPECT_TRUE(
+        contains(read_all(d / "margin.txt"),
+                 std::string("--margin: expected a finite number of metres >= 0, got ") + margin))
+        << read_all(d / "margin.txt");
+    EXPECT_FALSE(std::filesystem::exists(d / "m.yaml")) << margin;
+  }
+
+  // A map with no occupied cell: refused before the YAML, PGM or VDT is written.
+  write_no_return_log(d / "no_return.log", f.run.truth[0], 5);
+  EXPECT_NE(run_cli("map --log " + (d / "no_return.log").string() + " --resolution 0.1 --out " +
+                        (d / "empty").string() + " --quiet",
+                    d / "empty.txt"),
+            0);
+  EXPECT_TRUE(contains(
+      read_all(d / "empty.txt"),
+      (d / "no_return.log").string() + ": the map of 5 scans has no occupied cell (0 returns, " +
+          std::to_string(5 * kBeams) + " no-returns at or beyond --max-range): nothing written"))
+      << read_all(d / "empty.txt");
+  for (const char* ext : {".yaml", ".pgm", ".vdt"}) {
+    EXPECT_FALSE(std::filesystem::exists(d / (std::string("empty") + ext))) << ext;
+  }
+}
+
+TEST(CliEndToEnd, IpcTimeBaseAndStrictOnAnUnexplainedLog) {
+  const Fixture& f = fixture();
+  const std::filesystem::path d = f.dir / "time_base";
+  std::filesystem::create_directories(d);
+  ASSERT_EQ(run_cli("map --log " + (f.dir / "run.log").string() + " --resolution 0.1 --out " +
+                        (d / "map").string() + " --quiet",
+                    d / "map.txt"),
+            0)
+      << read_all(d / "map.txt");
+  // The run with ipc stamps 5000 s after the logger's.
+  constexpr double kIpcOffset = 5000.0;
+  CarmenLog log = load_carmen_log((f.dir / "run.log").string());
+  for (CarmenLaser& l : log.lasers) l.ipc_time = l.time + kIpcOffset;
+  save_carmen_log((d / "ipc.log").string(), log);
+  const std::size_t first = 10;
+  char from[64];
+  std::snprintf(from, sizeof from, "%.6f", log.lasers[first].ipc_time - 1e-3);
+  const std::string localize = "localize --map " + (d / "map.yaml").string() + " --log " +
+                               (d / "ipc.log").string() + " --quiet --from " + from + " ";
+
+  // The window and the trajectory in the ipc time base (and no --method: vdt-opt by default).
+  ASSERT_EQ(
+      run_cli(localize + "--time-base ipc --init " + std::to_string(f.run.truth[first][0]) + "," +
+                  std::to_string(f.run.truth[first][1]) + "," +
+                  std::to_string(f.run.truth[first][2]) + " --out " + (d / "ipc.tum").string(),
+              d / "ipc.txt"),
+      0)
+      << read_all(d / "ipc.txt");
+  const TumTrajectory est = load_tum_trajectory((d / "ipc.tum").string());
+  ASSERT_EQ(est.poses.size(), log.lasers.size() - first);
+  for (std::size_t k = 0; k < est.poses.size(); ++k) {
+    EXPECT_NEAR(est.poses[k].t, log.lasers[first + k].ipc_time, 1e-6);
+  }
+  EXPECT_TRUE(contains(read_all(d / "ipc.tum"), "# vdtnav localize --method vdt-opt"));
+  EXPECT_FALSE(contains(read_all(d / "ipc.txt"), "warning"));
+  // The same window in the logger time base holds no scan.
+  EXPECT_NE(run_cli(localize + "--out " + (d / "logger.tum").string(), d / "logger.txt"), 0);
+  EXPECT_TRUE(contains(read_all(d / "logger.txt"), "no laser message in the time window"))
+      << read_all(d / "logger.txt");
+
+  // Scans the map never explains: a warning with the count, and with --strict a failure.
+  write_no_return_log(d / "no_return.log", f.run.truth[0], 20);
+  const std::string unexplained = "localize --map " + (d / "map.yaml").string() + " --log " +
+                                  (d / "no_return.log").string() + " --quiet --out " +
+                                  (d / "dr.tum").string();
+  EXPECT_EQ(run_cli(unexplained, d / "dr.txt"), 0) << read_all(d / "dr.txt");
+  EXPECT_TRUE(contains(read_all(d / "dr.txt"),
+                       "vdtnav localize: warning: only 0 of 20 scans (0.0 %) localized"))
+      << read_all(d / "dr.txt");
+  EXPECT_NE(run_cli(unexplained + " --strict", d / "strict.txt"), 0);
+  EXPECT_TRUE(contains(read_all(d / "strict.txt"), "vdtnav: error: only 0 of 20 scans"))
+      << read_all(d / "strict.txt");
+  EXPECT_TRUE(contains(read_all(d / "strict.txt"), "(--strict)")) << read_all(d / "strict.txt");
+}
+
+}  // namespace
+}  // namespace vdtnav
+
+namespace vdtnav {
+namespace {
+
+TEST(CliEndToEnd, SettingsFileIsPrintedReadBackAndChecked) {
+  const Fixture& f = fixture();
+  const std::filesystem::path d = f.dir / "settings";
+  std::filesystem::create_directories(d);
+  // --print-config needs no map or log; what it prints is a settings file that reads back to the
+  // same settings.
+  ASSERT_EQ(run_cli("localize --method vdt-opt --print-config", d / "printed.yaml"), 0)
+      << read_all(d / "printed.yaml");
+  const std::string printed = read_all(d / "printed.yaml");
+  EXPECT_TRUE(contains(printed, "vdt-opt:"));
+  EXPECT_FALSE(contains(printed, "vdt-ekf:"));
+  EXPECT_TRUE(contains(printed, "loss: cauchy")) << "the log defaults";
+  ASSERT_EQ(run_cli("localize --method vdt-opt --config " + (d / "printed.yaml").string() +
+                        " --print-config",
+                    d / "again.yaml"),
+            0);
+  EXPECT_EQ(read_all(d / "again.yaml"), printed);
+  // A key the file names changes what is printed (and so what the localizer runs with).
+  {
+    std::ofstream(d / "mine.yaml") << "vdt-opt:\n  max_iterations: 7\n  search: {window_xy: 0.5}\n";
+  }
+  ASSERT_EQ(run_cli("localize --config " + (d / "mine.yaml").string() + " --print-config",
+                    d / "mine.txt"),
+            0);
+  EXPECT_TRUE(contains(read_all(d / "mine.txt"), "max_iterations: 7 "));
+  EXPECT_TRUE(contains(read_all(d / "mine.txt"), "window_xy: 0.5 "));
+  // A typo is an error naming the file, the line and the key, before any map is built.
+  { std::ofstream(d / "typo.yaml") << "vdt-opt:\n  search:\n    windw_xy: 0.5\n"; }
+  EXPECT_NE(run_cli("localize --map " + (d / "printed.yaml").string() + " --log " +
+                        (f.dir / "run.log").string() + " --out " + (d / "x.tum").string() +
+                        " --config " + (d / "typo.yaml").string(),
+                    d / "typo.txt"),
+            0);
+  EXPECT_TRUE(
+      contains(read_all(d / "typo.txt"), "typo.yaml:3: vdt-opt.search.windw_xy: unknown key"))
+      << read_all(d / "typo.txt");
+  // Without --print-config the map, log and output are required.
+  EXPECT_NE(run_cli("localize --method vdt-ekf", d / "required.txt"), 0);
+  EXPECT_TRUE(contains(read_all(d / "required.txt"), "localize: --map is required"))
+      << read_all(d / "required.txt");
 }
 
 }  // namespace

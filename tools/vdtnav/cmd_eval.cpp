@@ -1,5 +1,9 @@
 // vdtnav eval: a trajectory against benchmark relations (Kuemmerle et al. 2009) and/or a reference
-// trajectory (ATE with and without SE(2) Umeyama alignment, RPE), and the NEES of its covariance.
+// trajectory (ATE with and without SE(2) Umeyama alignment, RPE), and the NEES of its covariance:
+// against the reference pose by pose, and against the relations (relation NEES,
+// eval/relation_nees.hpp). The trajectory's stamps are in the time base it was localized in
+// (`vdtnav localize --time-base`); the relations' must be the same.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -11,6 +15,7 @@
 #include "vdtnav/core/error.hpp"
 #include "vdtnav/eval/nees.hpp"
 #include "vdtnav/eval/relation_metric.hpp"
+#include "vdtnav/eval/relation_nees.hpp"
 #include "vdtnav/io/relations.hpp"
 
 namespace vdtnav::tools {
@@ -69,6 +74,33 @@ std::vector<StampedCovariance> load_covariances(const std::string& path) {
   return out;
 }
 
+/// The covariance of each trajectory sample: the row closest in time within `tolerance`, NaN
+/// where there is none.
+std::vector<Eigen::Matrix3d> covariance_per_sample(const eval::Trajectory2& est,
+                                                   std::vector<StampedCovariance> covs,
+                                                   double tolerance) {
+  std::sort(covs.begin(), covs.end(), [](const auto& a, const auto& b) { return a.t < b.t; });
+  std::vector<Eigen::Matrix3d> out;
+  for (const eval::StampedPose2& s : est) {
+    const auto it = std::lower_bound(covs.begin(), covs.end(), s.t,
+                                     [](const StampedCovariance& c, double t) { return c.t < t; });
+    auto best = it;
+    if (it != covs.begin() && (it == covs.end() || s.t - (it - 1)->t < it->t - s.t)) best = it - 1;
+    out.push_back(best != covs.end() && std::abs(best->t - s.t) <= tolerance
+                      ? best->c
+                      : Eigen::Matrix3d::Constant(std::nan("")));
+  }
+  return out;
+}
+
+/// A number for JSON: null when not finite.
+std::string json_number(double v) {
+  if (!std::isfinite(v)) return "null";
+  char b[32];
+  std::snprintf(b, sizeof b, "%.9g", v);
+  return b;
+}
+
 std::string stats_json(const eval::ErrorStatistics& s) {
   char b[256];
   std::snprintf(b, sizeof b,
@@ -89,6 +121,8 @@ void run_eval(const EvalArgs& a) {
     throw ConfigError("vdtnav eval: give --relations REL, --reference REF.tum, or both");
   }
   const eval::Trajectory2 est = load_trajectory2(a.traj);
+  std::vector<StampedCovariance> covs;
+  if (!a.cov.empty()) covs = load_covariances(a.cov);
   std::ostringstream js;
   js << "{\n  \"trajectory\": \"" << a.traj << "\",\n  \"poses\": " << est.size();
   std::printf("trajectory %s: %zu poses\n", a.traj.c_str(), est.size());
@@ -128,6 +162,33 @@ void run_eval(const EvalArgs& a) {
                   m.rotation_squared.mean * kRadToDeg * kRadToDeg,
                   m.rotation_squared.std * kRadToDeg * kRadToDeg);
     js << b;
+    if (!a.cov.empty()) {
+      // Relation NEES: ends at estimate samples (--stamp-tolerance), each with its covariance.
+      eval::RelationNeesOptions no;
+      no.stamp_tolerance = a.stamp_tolerance;
+      const eval::RelationNeesResult rn =
+          eval::relation_nees(est, covariance_per_sample(est, covs, a.match_tolerance), rels, no);
+      std::printf(
+          "relation NEES (%s): %zu relations; skipped: %zu without an estimate at an end, %zu "
+          "without a covariance at an end (not localized), %zu singular\n",
+          a.cov.c_str(), rn.used, rn.skipped_no_stamp, rn.skipped_no_covariance,
+          rn.skipped_singular);
+      if (rn.ok()) {
+        std::printf(
+            "  mean %.3f  median %.3f  inside the chi2(3) 95%% bound %.2f: %.1f %% (consistent: "
+            "mean 3, 95 %%)\n",
+            rn.mean, rn.median, no.bound, 100.0 * rn.fraction_inside);
+      }
+      js << ",\n  \"relation_nees\": {\"file\": \"" << a.cov << "\", \"used\": " << rn.used
+         << ", \"skipped_no_stamp\": " << rn.skipped_no_stamp
+         << ", \"skipped_no_covariance\": " << rn.skipped_no_covariance
+         << ", \"skipped_singular\": " << rn.skipped_singular
+         << ", \"mean\": " << json_number(rn.ok() ? rn.mean : std::nan(""))
+         << ", \"median\": " << json_number(rn.ok() ? rn.median : std::nan(""))
+         << ", \"bound\": " << json_number(no.bound)
+         << ", \"fraction_inside\": " << json_number(rn.ok() ? rn.fraction_inside : std::nan(""))
+         << "}";
+    }
   }
 
   if (!a.reference.empty()) {
@@ -164,8 +225,6 @@ void run_eval(const EvalArgs& a) {
     std::vector<double> nees_values;
     std::vector<double> t_plot;
     std::vector<Eigen::Vector3d> err_plot, sig_plot;
-    std::vector<StampedCovariance> covs;
-    if (!a.cov.empty()) covs = load_covariances(a.cov);
     std::size_t ci = 0;
     for (const auto& m : ate.matches) {
       const eval::StampedPose2& e = est[m.estimate];
@@ -228,7 +287,10 @@ void add_eval_command(CLI::App& app) {
       ->check(CLI::ExistingFile);
   cmd->add_option("--reference", args->reference, "Reference trajectory (TUM)")
       ->check(CLI::ExistingFile);
-  cmd->add_option("--cov", args->cov, "Covariances (CSV t,xx,xy,xt,yy,yt,tt): NEES vs --reference")
+  cmd->add_option("--cov", args->cov,
+                  "Covariances (CSV t,xx,xy,xt,yy,yt,tt, as `localize --cov` writes): NEES "
+                  "against --reference; relation NEES (mean, median, fraction <= 7.81) with "
+                  "--relations")
       ->check(CLI::ExistingFile);
   cmd->add_option("--max-gap", args->max_gap,
                   "Interpolate the estimate at relation ends only inside gaps up to S seconds "

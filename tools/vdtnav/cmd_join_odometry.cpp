@@ -1,7 +1,8 @@
 // vdtnav join-odometry: the converter the Intel Research Lab study needs. The GMapping-corrected
 // log holds the ranges with corrected poses on the logger's time base; a table holds, per scan,
 // the absolute time (the relations' time base), the logger time, the raw odometry and the
-// corrected pose. This joins them on the logger time and writes
+// corrected pose. This joins them on the log's time (`--time-base`, logger by default: the
+// table's log_t column is the corrected log's logger_timestamp) and writes
 //   --out-raw        a CARMEN log: FLASER with the raw odometry as pose and odom fields,
 //   --out-corrected  a CARMEN log: FLASER with the corrected pose (for map building),
 //   --out-reference  the corrected poses as a TUM trajectory,
@@ -19,11 +20,12 @@ namespace {
 
 struct JoinArgs {
   std::string log, table, out_raw, out_corrected, out_reference;
+  std::string time_base = "logger";
   double tolerance = 0.005;
 };
 
 void run_join(const JoinArgs& a) {
-  const CarmenLog log = load_carmen_log(a.log);
+  const CarmenLog log = load_log(a.log, {}, a.time_base);
   const JoinedLogs j = join_odometry_table(log, load_odometry_table(a.table), a.table, a.tolerance);
   std::vector<StampedPose3> reference;
   for (const CarmenLaser& l : j.corrected.lasers) {
@@ -59,6 +61,7 @@ void add_join_odometry_command(CLI::App& app) {
   cmd->add_option("--out-reference", args->out_reference, "Corrected poses as TUM")->required();
   cmd->add_option("--tolerance", args->tolerance, "Seconds within which log and table times match")
       ->capture_default_str();
+  add_time_base_option(*cmd, args->time_base);
   cmd->callback([args] { run_join(*args); });
 }
 

@@ -1,16 +1,21 @@
 // vdtnav localize: one localizer over a log on a map. Odometry from the log's ODOM lines (or the
 // laser messages' odometry fields when those are unusable), one TUM line per scan in the log's
-// time base, the 3x3 covariance per scan as CSV, and figures.
+// time base (`--time-base logger|ipc`), the 3x3 covariance per scan as CSV, and figures. A run
+// in which the map explains almost no scan is a dead-reckoning trajectory: it is said on stderr,
+// and with --strict it fails.
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <map>
+#include <optional>
 
 #include "common.hpp"
+#include "parse.hpp"
 #include "plots.hpp"
 #include "progress.hpp"
 #include "vdtnav/core/error.hpp"
+#include "vdtnav/estimation/localizer_config.hpp"
 #include "vdtnav/estimation/localizer_factory.hpp"
 #include "vdtnav/io/log_odometry.hpp"
 #include "vdtnav/io/tum_trajectory.hpp"
@@ -19,17 +24,41 @@ namespace vdtnav::tools {
 
 namespace {
 
+/// Below this fraction of converged scans the map does not explain the log (a wrong map, start
+/// pose or time window): the trajectory is the odometry, and the run is reported as such.
+constexpr double kMinLocalizedFraction = 0.10;
+
 struct LocalizeArgs {
   std::string map, log, method = "vdt-opt", init, init_sigma = "0.1,0.1,0.05", out, cov, plot;
   std::string odometry = "auto";
+  std::string time_base = "logger";
+  std::string config;
+  bool print_config = false;
   TimeWindow window;
   double sigma_range = 0.02;
   double max_range = 80.0;
   bool skip_malformed = false;
   bool quiet = false;
+  bool strict = false;
 };
 
 void run_localize(const LocalizeArgs& a) {
+  // Options first: a typo must not cost a map build. The settings: the defaults for logs on maps
+  // built from scans (log_settings()), then the keys the --config file names.
+  LocalizerSettings settings = log_settings();
+  if (!a.config.empty()) settings = load_localizer_config(a.config, settings);
+  if (a.print_config) {
+    std::fputs(localizer_settings_yaml(settings, a.method).c_str(), stdout);
+    return;
+  }
+  for (const auto& [flag, value] : {std::pair<const char*, const std::string*>{"--map", &a.map},
+                                    {"--log", &a.log},
+                                    {"--out", &a.out}}) {
+    if (value->empty()) throw ConfigError(std::string("localize: ") + flag + " is required");
+  }
+  const Eigen::Vector3d sig = parse_sigmas(a.init_sigma, "--init-sigma");
+  const std::optional<Pose2> init_arg =
+      a.init.empty() ? std::nullopt : std::optional<Pose2>(parse_pose(a.init, "--init"));
   std::fprintf(stderr, "[localize] loading map %s\n", a.map.c_str());
   const LoadedMap map = load_map(a.map);
   std::fprintf(stderr, "[localize] map %d x %d cells of %.3f m, VDT built in %.3f s\n",
@@ -38,7 +67,7 @@ void run_localize(const LocalizeArgs& a) {
   CarmenLogOptions lo;
   lo.max_range = a.max_range;
   lo.skip_malformed = a.skip_malformed;
-  const CarmenLog log = load_carmen_log(a.log, lo);
+  const CarmenLog log = load_log(a.log, lo, a.time_base);
   const std::vector<std::size_t> idx = scans_in(log, a.window);
   if (idx.empty()) {
     throw ConfigError(a.log + ": no laser message in the time window (the log has " +
@@ -62,15 +91,14 @@ void run_localize(const LocalizeArgs& a) {
   for (std::size_t i : idx) times.push_back(log.lasers[i].time);
   const std::vector<OdometryStep> steps = odometry_steps(times, odom.poses);
 
-  const Pose2 init = a.init.empty() ? log.lasers[idx.front()].pose : parse_pose(a.init, "--init");
-  const Pose2 sig = parse_pose(a.init_sigma, "--init-sigma");
-  const LocalizerSettings settings = log_settings();
+  const Pose2 init = init_arg ? *init_arg : log.lasers[idx.front()].pose;
   std::unique_ptr<Localizer2D> loc = make_localizer(a.method, *map.vdt, map.occupancy, settings);
   loc->reset(init, Eigen::Vector3d(sig[0] * sig[0], sig[1] * sig[1], sig[2] * sig[2]).asDiagonal());
 
   std::ofstream traj(a.out);
   if (!traj) throw IoError(a.out + ": cannot open for writing");
-  traj << "# vdtnav localize --method " << a.method << ": t x y z qx qy qz qw (log time base)\n";
+  traj << "# vdtnav localize --method " << a.method << ": t x y z qx qy qz qw (" << a.time_base
+       << " time base)\n";
   std::ofstream cov;
   if (!a.cov.empty()) {
     cov.open(a.cov);
@@ -112,9 +140,10 @@ void run_localize(const LocalizeArgs& a) {
   }
   const double wall =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
-  std::printf("%s: %zu scans localized in %.3f s wall (%.3f ms per scan mean, %.3f max)\n",
+  std::printf("%s: %zu scans processed in %.3f s wall (%.3f ms per scan mean, %.3f max)\n",
               a.method.c_str(), idx.size(), wall, ms_sum / static_cast<double>(idx.size()), ms_max);
   for (const auto& [s, n] : status_count) std::printf("  %-22s %d\n", to_string(s), n);
+  const int localized = status_count[LocalizationStatus::kConverged];
   std::printf("wrote %s", a.out.c_str());
   if (cov.is_open()) std::printf(", %s (%zu covariances)", a.cov.c_str(), with_cov);
   if (cov.is_open() && with_cov == 0) std::printf(" — %s reports no covariance", a.method.c_str());
@@ -126,6 +155,18 @@ void run_localize(const LocalizeArgs& a) {
                            "scans reprojected from the " + a.method + " poses");
     std::printf("wrote %s_trajectory.png, %s_scans.png\n", a.plot.c_str(), a.plot.c_str());
   }
+  const double fraction = static_cast<double>(localized) / static_cast<double>(idx.size());
+  if (fraction < kMinLocalizedFraction) {
+    char msg[512];
+    std::snprintf(msg, sizeof msg,
+                  "only %d of %zu scans (%.1f %%) localized (converged), fewer than %.0f %%: the "
+                  "map does not explain this log's scans (wrong map, --init, --time-base or time "
+                  "window?), and %s holds mostly dead reckoning",
+                  localized, idx.size(), 100.0 * fraction, 100.0 * kMinLocalizedFraction,
+                  a.out.c_str());
+    if (a.strict) throw Error(std::string(msg) + " (--strict)");
+    std::fprintf(stderr, "vdtnav localize: warning: %s\n", msg);
+  }
 }
 
 }  // namespace
@@ -133,19 +174,28 @@ void run_localize(const LocalizeArgs& a) {
 void add_localize_command(CLI::App& app) {
   auto args = std::make_shared<LocalizeArgs>();
   CLI::App* cmd = app.add_subcommand("localize", "Localize a log's scans on a map");
-  cmd->add_option("--map", args->map, "ROS map_server YAML")->required()->check(CLI::ExistingFile);
-  cmd->add_option("--log", args->log, "CARMEN log (plain or gzip)")
-      ->required()
+  // --map, --log and --out are required unless --print-config (checked in run_localize).
+  cmd->add_option("--map", args->map, "ROS map_server YAML (required)")->check(CLI::ExistingFile);
+  cmd->add_option("--log", args->log, "CARMEN log, plain or gzip (required)")
       ->check(CLI::ExistingFile);
   cmd->add_option("--method", args->method, "Localizer")
-      ->required()
-      ->check(CLI::IsMember(localizer_methods()));
+      ->check(CLI::IsMember(localizer_methods()))
+      ->capture_default_str();
   cmd->add_option("--init", args->init,
                   "Initial pose x,y,yaw in the map frame (default: the log's first scan pose)");
-  cmd->add_option("--init-sigma", args->init_sigma, "Initial standard deviations x,y,yaw")
+  cmd->add_option("--init-sigma", args->init_sigma,
+                  "Initial standard deviations sx,sy,syaw (metres, metres, radians; >= 0)")
       ->capture_default_str();
   args->window.add_options(*cmd);
-  cmd->add_option("--out", args->out, "Trajectory output (TUM: t x y z qx qy qz qw)")->required();
+  add_time_base_option(*cmd, args->time_base);
+  cmd->add_option("--out", args->out, "Trajectory output (TUM: t x y z qx qy qz qw; required)");
+  cmd->add_option("--config", args->config,
+                  "Localizer settings (YAML, keys documented by --print-config and the README); "
+                  "unnamed keys keep their defaults")
+      ->check(CLI::ExistingFile);
+  cmd->add_flag("--print-config", args->print_config,
+                "Print the settings of --method (with --config applied), every key with its unit "
+                "and meaning, and exit");
   cmd->add_option(
       "--cov", args->cov,
       "Covariance output (CSV: t,xx,xy,xt,yy,yt,tt; one row per scan, nan without one)");
@@ -162,6 +212,8 @@ void add_localize_command(CLI::App& app) {
       ->capture_default_str();
   cmd->add_flag("--skip-malformed", args->skip_malformed, "Skip and count malformed log lines");
   cmd->add_flag("--quiet", args->quiet, "No progress bar");
+  cmd->add_flag("--strict", args->strict,
+                "Fail (exit 1) when fewer than 10 % of the scans localize, instead of warning");
   cmd->callback([args] { run_localize(*args); });
 }
 

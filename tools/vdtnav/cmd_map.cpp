@@ -1,6 +1,9 @@
 // vdtnav map: an occupancy grid from a log's poses and scans (log-odds with ray casting), saved as
 // a ROS map_server map (PREFIX.yaml + PREFIX.pgm), and the VDT map built from it (PREFIX.vdt).
+// Everything is checked, and the VDT built, before the first file is written: a failed run
+// leaves no partial map behind.
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 
 #include "common.hpp"
@@ -20,16 +23,22 @@ struct MapArgs {
   TimeWindow window;
   double margin = 1.0;
   double max_range = 80.0;
+  std::string time_base = "logger";
   bool skip_malformed = false;
   bool quiet = false;
 };
 
 void run_map(const MapArgs& a) {
+  if (!std::isfinite(a.margin) || a.margin < 0.0) {
+    char got[32];
+    std::snprintf(got, sizeof got, "%g", a.margin);
+    throw ConfigError(std::string("--margin: expected a finite number of metres >= 0, got ") + got);
+  }
   CarmenLogOptions lo;
   lo.max_range = a.max_range;
   lo.skip_malformed = a.skip_malformed;
   std::fprintf(stderr, "[map] reading %s\n", a.log.c_str());
-  const CarmenLog log = load_carmen_log(a.log, lo);
+  const CarmenLog log = load_log(a.log, lo, a.time_base);
   if (!log.malformed_lines.empty()) {
     std::fprintf(stderr, "[map] skipped %zu malformed lines (first: line %zu)\n",
                  log.malformed_lines.size(), log.malformed_lines.front());
@@ -62,13 +71,22 @@ void run_map(const MapArgs& a) {
     }
   }
   const Grid<std::int8_t, 2> cells = mapper.ros_cells();
-  save_ros_map(a.out, cells);
+  const OccupancyGrid<2> occupied = occupancy(cells);
+  std::size_t n_occupied = 0;
+  for (std::size_t i = 0; i < occupied.num_cells(); ++i) n_occupied += occupied[i] != 0;
+  const mapping::MappingStats& st = mapper.stats();
+  if (n_occupied == 0) {
+    throw ConfigError(a.log + ": the map of " + std::to_string(idx.size()) +
+                      " scans has no occupied cell (" + std::to_string(st.hits) + " returns, " +
+                      std::to_string(st.no_returns) +
+                      " no-returns at or beyond --max-range): nothing written");
+  }
   const auto t0 = std::chrono::steady_clock::now();
-  const VdtMap2 vdt = VdtMap2::build(occupancy(cells));
+  const VdtMap2 vdt = VdtMap2::build(occupied);
   const double build_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  save_ros_map(a.out, cells);
   save_vdt_map(a.out + ".vdt", vdt);
-  const mapping::MappingStats& st = mapper.stats();
   std::printf("wrote %s.yaml, %s.pgm, %s.vdt (VDT built in %.3f s)\n", a.out.c_str(), a.out.c_str(),
               a.out.c_str(), build_s);
   std::printf("beams: %zu returns, %zu no-return (cleared, not marked), %zu non-finite dropped\n",
@@ -91,8 +109,9 @@ void add_map_command(CLI::App& app) {
   cmd->add_option("--out", args->out, "Output prefix: PREFIX.yaml, PREFIX.pgm, PREFIX.vdt")
       ->required();
   args->window.add_options(*cmd);
-  cmd->add_option("--margin", args->margin, "Free border around the data, metres")
+  cmd->add_option("--margin", args->margin, "Free border around the data, metres (>= 0)")
       ->capture_default_str();
+  add_time_base_option(*cmd, args->time_base);
   cmd->add_option("--max-range", args->max_range,
                   "Readings at or beyond this are no-returns: they clear, they mark nothing")
       ->capture_default_str();

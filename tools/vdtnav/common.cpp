@@ -1,7 +1,6 @@
 #include "common.hpp"
 
 #include <chrono>
-#include <sstream>
 
 #include "vdtnav/core/error.hpp"
 #include "vdtnav/io/tum_trajectory.hpp"
@@ -18,18 +17,6 @@ LoadedMap load_map(const std::string& yaml_path) {
   return m;
 }
 
-Pose2 parse_pose(const std::string& text, const std::string& what) {
-  std::istringstream in(text);
-  Pose2 p;
-  char c1 = 0, c2 = 0;
-  if (!(in >> p[0] >> c1 >> p[1] >> c2 >> p[2]) || c1 != ',' || c2 != ',' || !p.allFinite() ||
-      !(in >> std::ws).eof()) {
-    throw ConfigError(what + ": expected x,y,yaw (metres, metres, radians), got '" + text + "'");
-  }
-  p[2] = wrap_angle(p[2]);
-  return p;
-}
-
 eval::Trajectory2 load_trajectory2(const std::string& tum_path) {
   const TumTrajectory tum = load_tum_trajectory(tum_path);
   eval::Trajectory2 out;
@@ -41,6 +28,32 @@ eval::Trajectory2 load_trajectory2(const std::string& tum_path) {
 void TimeWindow::add_options(CLI::App& app) {
   app.add_option("--from", from, "First time used, in the log's time base (seconds)");
   app.add_option("--to", to, "Last time used, in the log's time base (seconds)");
+}
+
+const std::vector<std::string>& time_base_names() {
+  static const std::vector<std::string> names = {"logger", "ipc"};
+  return names;
+}
+
+void add_time_base_option(CLI::App& app, std::string& time_base) {
+  app.add_option("--time-base", time_base,
+                 "CARMEN timestamp used as the log's time: logger (logger_timestamp) or ipc "
+                 "(ipc_timestamp; the Freiburg benchmark relations use the raw .clf's ipc time)")
+      ->check(CLI::IsMember(time_base_names()))
+      ->capture_default_str();
+}
+
+CarmenLog load_log(const std::string& path, const CarmenLogOptions& options,
+                   const std::string& time_base) {
+  if (time_base != "logger" && time_base != "ipc") {
+    throw ConfigError("--time-base: expected logger or ipc, got '" + time_base + "'");
+  }
+  CarmenLog log = load_carmen_log(path, options);
+  if (time_base == "ipc") {
+    for (CarmenLaser& l : log.lasers) l.time = l.scan.time = l.ipc_time;
+    for (CarmenOdometry& o : log.odometry) o.time = o.ipc_time;
+  }
+  return log;
 }
 
 std::vector<std::size_t> scans_in(const CarmenLog& log, const TimeWindow& window) {

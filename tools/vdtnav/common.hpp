@@ -28,9 +28,6 @@ struct LoadedMap {
 /// \brief Loads MAP.yaml and builds its VDT map. \throws vdtnav::Error.
 [[nodiscard]] LoadedMap load_map(const std::string& yaml_path);
 
-/// \brief Parses "x,y,yaw". \throws ConfigError naming `what`.
-[[nodiscard]] Pose2 parse_pose(const std::string& text, const std::string& what);
-
 /// \brief A TUM file as a planar trajectory (z, roll and pitch ignored).
 [[nodiscard]] eval::Trajectory2 load_trajectory2(const std::string& tum_path);
 
@@ -41,6 +38,21 @@ struct TimeWindow {
   [[nodiscard]] bool contains(double t) const noexcept { return t >= from && t <= to; }
   void add_options(CLI::App& app);
 };
+
+/// \brief The names of the CARMEN time bases, as `--time-base` takes them: `logger` (the
+/// logger_timestamp, the default) or `ipc` (the ipc_timestamp, the time base of the raw `.clf`
+/// logs the relations of the Freiburg SLAM benchmark are stamped with).
+[[nodiscard]] const std::vector<std::string>& time_base_names();
+
+/// \brief Adds `--time-base logger|ipc` to a subcommand that reads a CARMEN log.
+void add_time_base_option(CLI::App& app, std::string& time_base);
+
+/// \brief Loads a CARMEN log in the time base `time_base` (a time_base_names() entry): with
+/// `ipc`, every laser's and ODOM's `time` (and each scan's time) becomes its ipc_timestamp, so
+/// that time windows, odometry interpolation and the written trajectories all use it.
+/// \throws what load_carmen_log() throws; ConfigError for an unknown time base.
+[[nodiscard]] CarmenLog load_log(const std::string& path, const CarmenLogOptions& options,
+                                 const std::string& time_base);
 
 /// \brief Indices of the log's laser messages inside the window.
 [[nodiscard]] std::vector<std::size_t> scans_in(const CarmenLog& log, const TimeWindow& window);

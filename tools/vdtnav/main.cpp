@@ -1,8 +1,10 @@
 // vdtnav: the command-line tool. Build maps from logs, localize logs on maps with any of the
 // five methods, and evaluate trajectories against relations or reference trajectories.
 //   vdtnav map       --log LOG --resolution R --out PREFIX [--from T0 --to T1]
-//   vdtnav localize  --map MAP.yaml --log LOG --method M [--init x,y,yaw] --out TRAJ.tum
-//                    [--cov COV.csv] [--from T0 --to T1] [--plot PREFIX]
+//                    [--time-base logger|ipc]
+//   vdtnav localize  --map MAP.yaml --log LOG [--method M] [--init x,y,yaw] --out TRAJ.tum
+//                    [--cov COV.csv] [--from T0 --to T1] [--time-base logger|ipc] [--strict]
+//                    [--plot PREFIX]
 //   vdtnav eval      --traj TRAJ.tum (--relations REL | --reference REF.tum) [--cov COV.csv]
 //                    [--max-gap S] [--json]
 //   vdtnav join-odometry  (the Intel lab converter; see `vdtnav join-odometry --help`)

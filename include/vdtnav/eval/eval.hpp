@@ -4,5 +4,6 @@
 
 #include "vdtnav/eval/nees.hpp"
 #include "vdtnav/eval/relation_metric.hpp"
+#include "vdtnav/eval/relation_nees.hpp"
 #include "vdtnav/eval/trajectory_metrics.hpp"
 #include "vdtnav/eval/umeyama.hpp"
