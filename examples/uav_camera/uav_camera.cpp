@@ -362,10 +362,11 @@ int main(int argc, char** argv) {
         hi = a.interval.upper;
       }
       const double pct = with_features ? 100.0 * localized / with_features : 0.0;
-      int counts[4] = {0, 0, 0, 0};
+      int counts[5] = {0, 0, 0, 0, 0};
       for (LocalizationStatus st : t.status) ++counts[static_cast<int>(st)];
-      std::printf("  %s statuses: converged %d, not converged %d, too few %d, diverged %d\n",
-                  t.name.c_str(), counts[0], counts[1], counts[2], counts[3]);
+      std::printf(
+          "  %s statuses: converged %d, not converged %d, too few %d, diverged %d, refused %d\n",
+          t.name.c_str(), counts[0], counts[1], counts[2], counts[3], counts[4]);
       if (has_cov) {  // per-component normalised squared errors: which one is off
         Eigen::Vector3d z = Eigen::Vector3d::Zero();
         int nz = 0;

@@ -138,7 +138,7 @@ LocalizationResult VdtEkfLocalizer::update(const OdometryStep& odometry, const S
       explained * static_cast<double>(valid) < options_.min_inliers) {
     result.status = LocalizationStatus::kTooFewObservations;  // prediction only
   } else if (so.enabled && explained < so.accept_fraction) {
-    result.status = LocalizationStatus::kNotConverged;  // the map does not explain the scan
+    result.status = LocalizationStatus::kRefused;  // the map does not explain the scan
   } else {
     x_ = xi;
     const Eigen::Matrix3d info_inv = info.inverse();

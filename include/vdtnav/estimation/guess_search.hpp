@@ -32,7 +32,7 @@ struct GuessSearchOptions {
   /// Search when the solution from the guess explains less than this fraction of the beams.
   double search_below = 0.7;
   /// Accept a solution only when it explains at least this fraction; otherwise the localizer
-  /// keeps its prediction (status kNotConverged).
+  /// keeps its prediction (status kRefused).
   double accept_fraction = 0.4;
   /// After refused updates (the robot in a gap of the map), accept a solution only when it
   /// explains at least this fraction: partial matches on re-entry are often wrong ones.

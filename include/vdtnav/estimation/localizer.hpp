@@ -27,6 +27,9 @@ enum class LocalizationStatus {
   kNotConverged,        ///< the solver stopped without convergence (estimate may be poor)
   kTooFewObservations,  ///< too few usable beams: prediction only / previous estimate kept
   kDiverged,            ///< the solver failed numerically; previous estimate kept
+  /// The solver converged, but the map does not explain the observations there (too small a
+  /// fraction explained, or a jump the acceptance test refuses): the prediction is kept.
+  kRefused,
 };
 
 /// \return a short name for a status ("converged", ...).
@@ -40,6 +43,8 @@ enum class LocalizationStatus {
       return "too few observations";
     case LocalizationStatus::kDiverged:
       return "diverged";
+    case LocalizationStatus::kRefused:
+      return "refused";
   }
   return "?";
 }

@@ -38,7 +38,7 @@ struct VdtEkfOptions {
   int max_iterations = 3;
   /// Poor predictions: the iterations start at the best pose of a window search around the
   /// prediction (the prior still pulls toward the prediction), and an update that leaves the
-  /// scan unexplained is refused (prediction only, kNotConverged). See guess_search.hpp.
+  /// scan unexplained is refused (prediction only, kRefused). See guess_search.hpp.
   GuessSearchOptions search;
   /// Start the iterations at the optimization localizer's solution from the prediction (its
   /// coarse-to-fine pyramid, robust loss and gate rounds; `start` sets them) when that explains

@@ -73,7 +73,7 @@ struct VdtOptimizerOptions {
   bool four_dof = false;
   /// 2D localizer only: when the solution from the odometry guess explains the scan poorly, also
   /// solve from the best pose of a window search around the guess and keep the better; refuse a
-  /// solution that leaves the scan unexplained (the guess is kept, status kNotConverged).
+  /// solution that leaves the scan unexplained (the guess is kept, status kRefused).
   GuessSearchOptions search;
   /// 2D localizer only: when the map does not explain a scan, match it against the recent scans
   /// instead of keeping the bare odometry guess (see local_scan_map.hpp).
