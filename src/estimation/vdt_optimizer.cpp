@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <unordered_map>
 #include <utility>
 
 #include <Eigen/Cholesky>
@@ -518,6 +519,18 @@ bool VdtOptimizerT<Dim>::covariance(const Observations& scan, const Pose& pose,
   const int k_shared = scan.num_shared();
   Eigen::Matrix<double, kDoF, Eigen::Dynamic> shared =
       Eigen::Matrix<double, kDoF, Eigen::Dynamic>::Zero(kDoF, k_shared);
+  // Map errors shared by the readings of one square (cube) of the map (VdtSensorModelOptions::
+  // map_correlation_length): group k's sensitivity S_k = sum_{i in k} d^2(d_VCD/2)/dX dp_i (a
+  // common shift of its endpoints) adds S_k sigma_c^2 S_k^T, like the shared errors above.
+  const double c2 = model_.map_sigma_correlated() * model_.map_sigma_correlated();
+  using GroupSensitivity = Eigen::Matrix<double, kDoF, Dim>;
+  std::unordered_map<std::int64_t, GroupSensitivity> groups;
+  const auto add_to_group = [&](int i, const GroupSensitivity& s) {
+    if (c2 <= 0.0) return;
+    auto [it, fresh] = groups.try_emplace(model_.map_error_group(r * scan.points[i] + t));
+    if (fresh) it->second.setZero();
+    it->second.noalias() += s;
+  };
   for (const int i : order) {
     if (!inliers[i]) continue;
     if (options_.covariance == CovarianceMethod::kImplicitFunction) {
@@ -533,6 +546,7 @@ bool VdtOptimizerT<Dim>::covariance(const Observations& scan, const Pose& pose,
       }
       middle.noalias() += (w * w * m2) * b.d_pose.transpose() * b.d_pose;  // map-noise floor
       if (k_shared > 0) shared.noalias() += w * c.cross_point * scan.shared_jacobians[i];
+      add_to_group(i, w * c.cross_point);
     } else {
       const BeamDisparityT<Dim> b = model_.disparity(r, t, scan.points[i], scan.directions[i]);
       const double w = loss_weight(options_.loss, options_.loss_scale, b.d.squaredNorm());
@@ -543,9 +557,11 @@ bool VdtOptimizerT<Dim>::covariance(const Observations& scan, const Pose& pose,
       if (k_shared > 0) {
         shared.noalias() += w * b.d_pose.transpose() * b.d_point * scan.shared_jacobians[i];
       }
+      add_to_group(i, w * b.d_pose.transpose() * b.d_point);
     }
   }
   if (k_shared > 0) middle.noalias() += shared * scan.shared_covariance * shared.transpose();
+  for (const auto& [key, s] : groups) middle.noalias() += c2 * s * s.transpose();
   // Held components (4-DOF mode): the estimate does not move along them, so they drop out of H
   // and of the noise term; the unit diagonal keeps H invertible and their rows of cov zero.
   int free = 0;
@@ -653,11 +669,12 @@ LocalizationResult VdtOptimizationLocalizer::update(const OdometryStep& odometry
   } else {
     // Nothing usable, or the map does not explain the scan: match it against the recent scans,
     // else keep the odometry guess. Either way it is not a localization on the map. Fewer
-    // explained readings than min_inliers (a camera over grass) is "too few observations".
+    // explained readings than min_inliers (a camera over grass) is "too few observations", a
+    // solution the acceptance test refuses "refused" (the solver's own verdict stays otherwise).
     if (usable(r)) {
       r.status = explained * static_cast<double>(pts.size()) < optimizer_.options().min_inliers
                      ? LocalizationStatus::kTooFewObservations
-                     : LocalizationStatus::kNotConverged;
+                     : LocalizationStatus::kRefused;
     }
     r.has_covariance = false;
     const std::optional<Pose2> bridged =

@@ -28,7 +28,10 @@ struct LocalizerSettings {
 /// vdt-opt a Cauchy loss (scale 0.05 m) against what the map lacks or misplaces, the window
 /// search on every scan explained below 95 %, and up to 50 solver iterations. On the Intel log
 /// this takes the Kuemmerle error from 0.068 m / 1.4 deg (the simulation defaults) to
-/// 0.030 m / 0.48 deg.
+/// 0.030 m / 0.48 deg. The map is one drawn from scans: vdt-opt and vdt-ekf consider the map
+/// errors shared by the readings of each 2 m square, with the map builder's pose error at half a
+/// cell (VdtSensorModelOptions::map_correlation_length, map_pose_sigma): relation NEES on the
+/// Intel log 4.86 (mean), against 81 without.
 [[nodiscard]] LocalizerSettings log_settings();
 
 /// \return the method names make_localizer() knows, in table order.
