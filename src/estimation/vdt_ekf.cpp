@@ -168,9 +168,14 @@ LocalizationResult VdtEkfLocalizer::update(const OdometryStep& odometry, const S
         if (fresh) it->second.setZero();
         it->second.noalias() += bd.d_pose.transpose() * r_inv * bd.d_point;
       }
+      // A shift of the map moves everything localized on it, the filter's past included: the
+      // term is the scan's own sensitivity (its information without the prior), reported on top
+      // of the filter's covariance relative to the map, not fed back into the filter.
+      const Eigen::Matrix3d scan_info = info - prior_info;
+      const Eigen::LDLT<Eigen::Matrix3d> scan_ldlt(scan_info);
       const double s2 = model_.map_sigma_correlated() * model_.map_sigma_correlated();
       for (const auto& [key, c] : groups) {
-        const Eigen::Matrix<double, 3, 2> sens = info_inv * c;
+        const Eigen::Matrix<double, 3, 2> sens = scan_ldlt.solve(c);
         map_term.noalias() += s2 * sens * sens.transpose();
       }
     }

@@ -7,8 +7,10 @@
 
 #include <cmath>
 #include <cstdio>
+#include <map>
 #include <random>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Cholesky>
@@ -150,6 +152,50 @@ TEST(VdtEkfUpdate, ConvergedIteratedUpdateIsNotOverConfident) {
   const eval::AneesResult a = posterior_anees(20, 1.0);
   EXPECT_LE(a.anees, a.interval.upper);
   EXPECT_GE(a.anees, 0.75 * 3.0);
+}
+
+/// Map errors shared per 2 m square (VdtSensorModelOptions::map_correlation_length): each trial
+/// shifts the endpoints of every square by one common N(0, sigma_c^2 I) offset. A broad prior
+/// (1 m, 0.3 rad) leaves the scan to decide; the reported covariance (the filter's own plus the
+/// shared map term) covers the spread to within 1.5x; without the term it is many times too small.
+TEST(VdtEkfUpdate, MapErrorsSharedPerSquareAreReported) {
+  const Pose2 truth = test::tour_pose(7);
+  const double length = 2.0, pose_sigma = 0.02;
+  const auto anees = [&](double correlation_length) {
+    VdtEkfOptions o = classic_ekf_options();
+    o.max_iterations = 10;
+    o.sensor.map_correlation_length = correlation_length;
+    o.sensor.map_pose_sigma = pose_sigma;
+    const double sigma_c =
+        std::sqrt(test::world().map.resolution() * test::world().map.resolution() / 12.0 +
+                  pose_sigma * pose_sigma);
+    std::mt19937 rng(78);
+    std::normal_distribution<double> n01(0.0, 1.0);
+    const Eigen::Rotation2Dd rot(truth[2]);
+    std::vector<double> nees;
+    for (int k = 0; k < 300; ++k) {
+      ScanPoints scan = scan_points(test::simulate_scan(truth, 0.02, rng, 361));
+      std::map<std::pair<long, long>, Eigen::Vector2d> shift;
+      for (Eigen::Vector2d& p : scan.points) {
+        const Eigen::Vector2d w = rot * p + truth.head<2>();
+        const std::pair<long, long> key(static_cast<long>(std::floor(w.x() / length)),
+                                        static_cast<long>(std::floor(w.y() / length)));
+        auto [it, fresh] = shift.try_emplace(key);
+        if (fresh) it->second = sigma_c * Eigen::Vector2d(n01(rng), n01(rng));
+        p += rot.inverse() * it->second;
+      }
+      VdtEkfLocalizer ekf(test::world().map, o);
+      ekf.reset(truth + Pose2(0.01, -0.01, 0.005), Eigen::Vector3d(1.0, 1.0, 0.09).asDiagonal());
+      const LocalizationResult r = ekf.update(standing_still(), scan);
+      EXPECT_EQ(r.status, LocalizationStatus::kConverged);
+      nees.push_back(eval::nees(r.pose, truth, r.covariance));
+    }
+    return eval::anees(nees, 3, 0.99).anees;
+  };
+  const double on = anees(length);
+  EXPECT_GT(on, 3.0 / 1.5);
+  EXPECT_LT(on, 3.0 * 1.5);
+  EXPECT_GT(anees(0.0), 3.0 * 3.0);
 }
 
 TEST(EkfPredict, VelocityModelIsThesisEquationsAndItsJacobianIsExact) {
