@@ -52,9 +52,12 @@ const Fixture& fixture() {
   return f;
 }
 
-void BM_VdtOptSolve2D(benchmark::State& state) {
+/// One scan's solve with its covariance by the given solver.
+void solve_2d(benchmark::State& state, ScanSolver solver) {
   const auto& f = fixture();
-  const VdtOptimizer opt(f.map);
+  VdtOptimizerOptions o;
+  o.solver = solver;
+  const VdtOptimizer opt(f.map, o);
   std::size_t k = 0;
   int converged = 0, solves = 0;
   double iterations = 0;
@@ -73,7 +76,11 @@ void BM_VdtOptSolve2D(benchmark::State& state) {
   state.counters["with_covariance_pct"] = 100.0 * converged / std::max(1, solves);
   state.counters["iterations"] = iterations / std::max(1, solves);
 }
+/// Ceres (the default) and, for the ratio in the same run, the dense Levenberg-Marquardt.
+void BM_VdtOptSolve2D(benchmark::State& state) { solve_2d(state, ScanSolver::kCeres); }
+void BM_VdtOptSolve2DDense(benchmark::State& state) { solve_2d(state, ScanSolver::kDense); }
 BENCHMARK(BM_VdtOptSolve2D)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_VdtOptSolve2DDense)->Unit(benchmark::kMillisecond);
 
 void BM_VdtEkfUpdate2D(benchmark::State& state) {
   const auto& f = fixture();
@@ -169,9 +176,11 @@ const Fixture3D& fixture3d() {
 
 /// One 6-DOF solve with its covariance, from Table 3.4's scenario B (x, y, z +0.1 m; roll, pitch,
 /// yaw +0.05 rad). Argument: points per cloud (5700, or 57 = every 100th).
-void BM_VdtOptSolve3D(benchmark::State& state) {
+void solve_3d(benchmark::State& state, ScanSolver solver) {
   const auto& f = fixture3d();
-  const VdtOptimizer3 opt(f.map);
+  VdtOptimizerOptions o;
+  o.solver = solver;
+  const VdtOptimizer3 opt(f.map, o);
   const std::size_t step = 5700 / static_cast<std::size_t>(state.range(0));
   std::vector<ObservationSet3> clouds;
   std::vector<Pose3> guesses;
@@ -200,7 +209,10 @@ void BM_VdtOptSolve3D(benchmark::State& state) {
   state.counters["iterations"] = iterations / std::max(1, solves);
   state.counters["error_mm"] = 1e3 * error / std::max(1, solves);
 }
+void BM_VdtOptSolve3D(benchmark::State& state) { solve_3d(state, ScanSolver::kCeres); }
+void BM_VdtOptSolve3DDense(benchmark::State& state) { solve_3d(state, ScanSolver::kDense); }
 BENCHMARK(BM_VdtOptSolve3D)->Arg(5700)->Arg(57)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_VdtOptSolve3DDense)->Arg(5700)->Arg(57)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace vdtnav

@@ -27,6 +27,7 @@ const Names<ResidualMode> kResidualModes{{"interpolated", ResidualMode::kInterpo
 const Names<DisparityCovariance> kDisparityCovariances{
     {"exact_rank_one", DisparityCovariance::kExactRankOne},
     {"diagonal", DisparityCovariance::kDiagonal}};
+const Names<ScanSolver> kScanSolvers{{"ceres", ScanSolver::kCeres}, {"dense", ScanSolver::kDense}};
 const Names<TrustRegion> kTrustRegions{{"levenberg_marquardt", TrustRegion::kLevenbergMarquardt},
                                        {"dogleg", TrustRegion::kDogleg}};
 const Names<RobustLoss> kLosses{
@@ -116,7 +117,11 @@ void visit(V& v, LocalScanMapOptions& o) {
 template <typename V>
 void visit(V& v, VdtOptimizerOptions& o) {
   v.section("sensor", "the VDT sensor model", [&](V& s) { visit(s, o.sensor); });
-  v.choice("trust_region", o.trust_region, kTrustRegions, "Ceres trust-region strategy");
+  v.choice("solver", o.solver, kScanSolvers,
+           "ceres = Ceres Solver, dense = its Levenberg-Marquardt on the fixed-size normal "
+           "equations (faster)");
+  v.choice("trust_region", o.trust_region, kTrustRegions,
+           "Ceres trust-region strategy (solver: ceres; dense is Levenberg-Marquardt)");
   v.choice("loss", o.loss, kLosses, "robust loss on each reading's squared disparity");
   v.number("loss_scale", o.loss_scale, "m", "where the robust loss departs from quadratic");
   v.choice("covariance_method", o.covariance, kCovarianceMethods,

@@ -10,6 +10,7 @@
 
 #include <Eigen/Cholesky>
 
+#include "scan_lm.hpp"
 #include "vdtnav/core/error.hpp"
 #include "vdtnav/estimation/motion_model.hpp"
 #include "vdtnav/estimation/se3_manifold.hpp"
@@ -78,6 +79,7 @@ constexpr std::size_t kCoarsePoints3d = 1000;
 
 /// What every Ceres solve of one optimizer shares.
 struct SolveSetup {
+  ScanSolver solver = ScanSolver::kCeres;
   TrustRegion trust_region = TrustRegion::kLevenbergMarquardt;
   int max_iterations = 25;
   bool four_dof = false;
@@ -85,24 +87,8 @@ struct SolveSetup {
   double parameter_tolerance = 1e-6;  // relative: ~10 micrometres at 10 m from the origin
 };
 
-/// rho(s) and rho'(s) of a robust loss of the given scale (b = scale^2) at the squared disparity s,
-/// as Ceres defines them: Huber rho = s (s <= b), 2 sqrt(b s) - b; Cauchy rho = b log(1 + s/b).
-struct RobustValue {
-  double rho = 0.0, rho1 = 1.0;
-};
-RobustValue robust_value(RobustLoss loss, double scale, double s) {
-  const double b = scale * scale;
-  switch (loss) {
-    case RobustLoss::kHuber:
-      if (s <= b) return {s, 1.0};
-      return {2.0 * std::sqrt(b * s) - b, std::sqrt(b / s)};
-    case RobustLoss::kCauchy:
-      return {b * std::log1p(s / b), 1.0 / (1.0 + s / b)};
-    case RobustLoss::kNone:
-      break;
-  }
-  return {s, 1.0};
-}
+using detail::robust_value;
+using detail::RobustValue;
 
 /// All inlier readings of a set as one residual block (Dim residuals per reading, one pose block):
 /// one virtual call per evaluation, the rotation shared by every reading.
@@ -253,30 +239,59 @@ void set_manifold(ceres::Problem& problem, double* x, bool four_dof) {
   if (m != nullptr) problem.SetManifold(x, m);
 }
 
-/// One Ceres solve of the readings in `beams` from x (updated in place).
+/// What the optimizer reads of a solve, from either solver.
+struct SolveOutcome {
+  int iterations = 0;
+  double final_cost = 0.0;  // half the (robust) VCD, as Ceres reports it
+  bool converged = false;
+  bool failed = false;
+};
+
+/// One solve of the readings in `beams` from x (updated in place), weighted by sqrt_w (empty: 1).
 template <int Dim>
-ceres::Solver::Summary run_solver(const VdtSensorModelT<Dim>& model,
-                                  const ObservationSet<Dim>& scan, const std::vector<int>& beams,
-                                  RobustLoss loss, double loss_scale, const SolveSetup& setup,
-                                  double* x) {
+SolveOutcome run_solver(const VdtSensorModelT<Dim>& model, const ObservationSet<Dim>& scan,
+                        const std::vector<int>& beams, const std::vector<double>& sqrt_w,
+                        RobustLoss loss, double loss_scale, const SolveSetup& setup, double* x) {
+  SolveOutcome out;
+  if (setup.solver == ScanSolver::kDense) {
+    detail::ScanLmSettings ls;
+    ls.max_iterations = setup.max_iterations;
+    ls.function_tolerance = setup.function_tolerance;
+    ls.parameter_tolerance = setup.parameter_tolerance;
+    ls.held_mask = (Dim == 3 && setup.four_dof) ? (1u << 3 | 1u << 4) : 0u;
+    typename PoseTraits<Dim>::Pose pose = Parameterization<Dim>::pose(x);
+    const detail::ScanLmSummary s =
+        detail::solve_scan_lm<Dim>(model, scan, beams, sqrt_w, loss, loss_scale, ls, &pose);
+    Parameterization<Dim>::set(pose, x);
+    out.iterations = s.iterations;
+    out.final_cost = s.final_cost;
+    out.converged = s.converged;
+    out.failed = s.failed;
+    return out;
+  }
   ceres::Problem problem(problem_options());
   problem.AddResidualBlock(
-      new ScanCost<Dim>(model, scan, beams, setup.four_dof, {}, loss, loss_scale), nullptr, x);
+      new ScanCost<Dim>(model, scan, beams, setup.four_dof, sqrt_w, loss, loss_scale), nullptr, x);
   set_manifold<Dim>(problem, x, setup.four_dof);
   const ceres::Solver::Options so = solver_options(setup);
   ceres::Solver::Summary summary;
   ceres::Solve(so, &problem, &summary);
-  return summary;
+  out.iterations = static_cast<int>(summary.iterations.size());
+  out.final_cost = summary.final_cost;
+  out.converged = summary.termination_type == ceres::CONVERGENCE;
+  out.failed = summary.termination_type == ceres::FAILURE || !std::isfinite(summary.final_cost);
+  return out;
 }
 
-/// Iteratively reweighted least squares with a Cauchy loss of the given scale on one residual
-/// block (fast: Ceres's per-block overhead is paid once, not per beam): each pass fixes the
-/// weights w_i = 1 / (1 + |d_i|^2 / scale^2) at the current estimate and solves.
+/// Iteratively reweighted least squares with a Cauchy loss of the given scale: each pass fixes
+/// the weights w_i = 1 / (1 + |d_i|^2 / scale^2) at the current estimate and solves.
+/// \return the solver iterations of all passes.
 template <int Dim>
-void solve_cauchy_irls(const VdtSensorModelT<Dim>& model, const ObservationSet<Dim>& scan,
-                       const std::vector<int>& beams, double scale, const SolveSetup& setup,
-                       int passes, double* x) {
+int solve_cauchy_irls(const VdtSensorModelT<Dim>& model, const ObservationSet<Dim>& scan,
+                      const std::vector<int>& beams, double scale, const SolveSetup& setup,
+                      int passes, double* x) {
   using Traits = PoseTraits<Dim>;
+  int iterations = 0;
   std::vector<double> sqrt_w(beams.size());
   for (int pass = 0; pass < passes; ++pass) {
     const typename Traits::Pose at = Parameterization<Dim>::pose(x);
@@ -286,14 +301,10 @@ void solve_cauchy_irls(const VdtSensorModelT<Dim>& model, const ObservationSet<D
       const double s2 = model.disparity_value(r, t, scan.points[beams[k]], nullptr).squaredNorm();
       sqrt_w[k] = std::sqrt(loss_weight(RobustLoss::kCauchy, scale, s2));
     }
-    ceres::Problem problem(problem_options());
-    problem.AddResidualBlock(new ScanCost<Dim>(model, scan, beams, setup.four_dof, sqrt_w), nullptr,
-                             x);
-    set_manifold<Dim>(problem, x, setup.four_dof);
-    const ceres::Solver::Options so = solver_options(setup);
-    ceres::Solver::Summary summary;
-    ceres::Solve(so, &problem, &summary);
+    iterations +=
+        run_solver(model, scan, beams, sqrt_w, RobustLoss::kNone, 1.0, setup, x).iterations;
   }
+  return iterations;
 }
 
 /// Spreads the low 21 bits of v to every third bit (a Morton code component).
@@ -383,7 +394,8 @@ typename VdtOptimizerT<Dim>::Result VdtOptimizerT<Dim>::solve(const Observations
   double x[P::kAmbient];
   P::set(guess, x);
   const double alpha = options_.sensor.gate;
-  const SolveSetup setup{options_.trust_region, options_.max_iterations, options_.four_dof};
+  const SolveSetup setup{options_.solver, options_.trust_region, options_.max_iterations,
+                         options_.four_dof};
   // IRLS passes per level of the coarse alignment: in 3D one pass per level already lands in the
   // basin of the fine solve, and each pass is a full solve over thousands of 3D lookups.
   constexpr int kIrlsPasses = Dim == 2 ? 3 : 1;
@@ -421,10 +433,13 @@ typename VdtOptimizerT<Dim>::Result VdtOptimizerT<Dim>::solve(const Observations
         if (in) beams.push_back(i);
       }
       if (beams.size() < static_cast<std::size_t>(options_.min_inliers)) continue;
-      solve_cauchy_irls(coarse, scan, beams, coarse.options().gate / 4, coarse_setup, kIrlsPasses,
-                        x);
+      result.iterations += solve_cauchy_irls(coarse, scan, beams, coarse.options().gate / 4,
+                                             coarse_setup, kIrlsPasses, x);
     }
-    if (kFineIrls) solve_cauchy_irls(model_, scan, wide, 0.1, setup, kIrlsPasses, x);
+    if (kFineIrls) {
+      result.iterations += solve_cauchy_irls(model_, scan, wide, 0.1, setup, kIrlsPasses, x);
+    }
+    result.work.coarse_to_fine = 1;
   };
   if (!kFineIrls && options_.coarse_threshold <= 0.0) {
     coarse_to_fine({});  // always: no need for the median
@@ -473,16 +488,17 @@ typename VdtOptimizerT<Dim>::Result VdtOptimizerT<Dim>::solve(const Observations
       result.pose = guess;
       return result;
     }
-    const ceres::Solver::Summary summary =
-        run_solver(model_, scan, beams, options_.loss, options_.loss_scale, setup, x);
-    result.iterations += static_cast<int>(summary.iterations.size());
-    result.final_cost = 2.0 * summary.final_cost;  // Ceres reports sum/2: d_VCD = sum |d|^2
-    if (summary.termination_type == ceres::FAILURE || !std::isfinite(summary.final_cost)) {
+    const SolveOutcome summary =
+        run_solver(model_, scan, beams, {}, options_.loss, options_.loss_scale, setup, x);
+    result.iterations += summary.iterations;
+    ++result.work.solves;
+    result.final_cost = 2.0 * summary.final_cost;  // solvers report sum/2: d_VCD = sum |d|^2
+    if (summary.failed) {
       result.status = LocalizationStatus::kDiverged;
       result.pose = guess;
       return result;
     }
-    converged = summary.termination_type == ceres::CONVERGENCE;
+    converged = summary.converged;
   }
   result.pose = P::result(x, guess, options_.four_dof);
   result.status = converged ? LocalizationStatus::kConverged : LocalizationStatus::kNotConverged;
@@ -635,15 +651,22 @@ LocalizationResult VdtOptimizationLocalizer::update(const OdometryStep& odometry
     // (when the guess itself is the best candidate, the solve would repeat the first one).
     const VdtSensorModel& model = optimizer_.sensor_model();
     const Pose2 start = search_guess(model, pts, guess, so, &uncertainty_);
+    r.work.window_searches = 1;
     if (start != guess) {
       LocalizationResult r2 = optimizer_.solve(pts, start);
       const double e2 =
           usable(r2) ? explained_fraction(model, pts, r2.pose, so.explained_distance) : 0.0;
-      r2.iterations += r.iterations;
+      // The work of both solves, whichever is kept.
+      LocalizationResult::Work work = r.work;
+      work.solves += r2.work.solves;
+      work.coarse_to_fine += r2.work.coarse_to_fine;
+      const int iterations = r.iterations + r2.iterations;
       if (e2 > explained) {
         r = r2;
         explained = e2;
       }
+      r.work = work;
+      r.iterations = iterations;
     }
   }
   // Back from a gap of the map, a partial match far from where the recent scans place the robot
@@ -680,6 +703,7 @@ LocalizationResult VdtOptimizationLocalizer::update(const OdometryStep& odometry
     const std::optional<Pose2> bridged =
         local_.match(pts, guess, optimizer_.options(), so.explained_distance);
     pose_ = bridged ? *bridged : guess;
+    r.work.bridged = bridged ? 1 : 0;
     r.pose = pose_;
     in_gap_ = true;
     if (bridged) {

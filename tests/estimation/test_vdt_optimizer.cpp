@@ -13,6 +13,8 @@
 
 #include <Eigen/Cholesky>
 
+#include "solver_choice.hpp"
+
 #include "scan_fixture.hpp"
 #include "vdtnav/eval/nees.hpp"
 
@@ -21,11 +23,11 @@ namespace {
 
 using test::world;
 
-class RecoveryTest : public ::testing::TestWithParam<TrustRegion> {};
+class RecoveryTest : public ::testing::TestWithParam<test::SolverChoice> {};
 
 TEST_P(RecoveryTest, RecoversFromThirtyCentimetresAndATenthOfARadianOnNoiseFreeScans) {
   VdtOptimizerOptions o;
-  o.trust_region = GetParam();
+  GetParam().apply(o);
   o.sensor.gate = 0.5;
   const VdtOptimizer opt(world().map, o);
   std::mt19937 rng(1);
@@ -49,8 +51,7 @@ TEST_P(RecoveryTest, RecoversFromThirtyCentimetresAndATenthOfARadianOnNoiseFreeS
   EXPECT_EQ(tested, 15);
 }
 
-INSTANTIATE_TEST_SUITE_P(TrustRegions, RecoveryTest,
-                         ::testing::Values(TrustRegion::kLevenbergMarquardt, TrustRegion::kDogleg));
+INSTANTIATE_TEST_SUITE_P(Solvers, RecoveryTest, ::testing::ValuesIn(test::kSolverChoices));
 
 /// 500 noisy scans from one pose: the spread of the estimates against the predicted covariance.
 void expect_calibrated(CovarianceMethod method) {

@@ -13,6 +13,8 @@
 
 #include <Eigen/Cholesky>
 
+#include "solver_choice.hpp"
+
 #include "cloud_fixture.hpp"
 #include "vdtnav/estimation/vdt_optimizer.hpp"
 
@@ -21,7 +23,7 @@ namespace {
 
 using test::world3;
 
-class Recovery3dTest : public ::testing::TestWithParam<TrustRegion> {};
+class Recovery3dTest : public ::testing::TestWithParam<test::SolverChoice> {};
 
 /// Table 3.4's scenario B with both signs, from three robot poses on an uneven floor.
 std::vector<Pose3> scenario_b_guesses(const Pose3& truth) {
@@ -36,7 +38,7 @@ std::vector<Pose3> scenario_b_guesses(const Pose3& truth) {
 
 TEST_P(Recovery3dTest, RecoversFromScenarioBOnNoiseFreeClouds) {
   VdtOptimizerOptions o;
-  o.trust_region = GetParam();
+  GetParam().apply(o);
   const VdtOptimizer3 opt(world3().map, o);
   std::mt19937 rng(1);
   double worst_t = 0.0, worst_r = 0.0;
@@ -66,7 +68,7 @@ TEST_P(Recovery3dTest, FullCloudsWithRasterisationArtefactsStillConverge) {
   // All 5700 readings, including the ~10 % the rasterised map does not represent exactly (see
   // simulate_cloud): the optimum itself is then a few millimetres from the truth.
   VdtOptimizerOptions o;
-  o.trust_region = GetParam();
+  GetParam().apply(o);
   const VdtOptimizer3 opt(world3().map, o);
   std::mt19937 rng(1);
   double worst_t = 0.0, worst_r = 0.0;
@@ -88,8 +90,7 @@ TEST_P(Recovery3dTest, FullCloudsWithRasterisationArtefactsStillConverge) {
   EXPECT_LT(worst_r, 3e-3);
 }
 
-INSTANTIATE_TEST_SUITE_P(TrustRegions, Recovery3dTest,
-                         ::testing::Values(TrustRegion::kLevenbergMarquardt, TrustRegion::kDogleg));
+INSTANTIATE_TEST_SUITE_P(Solvers, Recovery3dTest, ::testing::ValuesIn(test::kSolverChoices));
 
 TEST(VdtOptimizer3, FourDofModeHoldsRollAndPitchAndRecoversTheRest) {
   VdtOptimizerOptions o;

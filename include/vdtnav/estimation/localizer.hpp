@@ -64,7 +64,15 @@ struct LocalizationResultT {
   Pose pose = PoseTraits<Dim>::identity();
   Covariance covariance = Covariance::Zero();
   bool has_covariance = false;  ///< false for estimators that report none (C-LOG style)
+  /// Solver iterations of every solve of the update, coarse levels and re-solves included.
   int iterations = 0;
+  /// What the update ran besides one solve (optimizers), so that its cost can be told apart.
+  struct Work {
+    int solves = 0;           ///< fine-level solves (one per gate round, per start)
+    int coarse_to_fine = 0;   ///< coarse-to-fine alignments (guess poorer than coarse_threshold)
+    int window_searches = 0;  ///< window searches around the guess (scan poorly explained)
+    int bridged = 0;          ///< scan-to-scan matches in a gap of the map
+  } work;
   double final_cost = 0.0;
   int inliers = 0;  ///< beams used after gating
   int dropped = 0;  ///< beams dropped: invalid readings, outside the map, gated

@@ -32,7 +32,17 @@
 
 namespace vdtnav {
 
-/// \brief Ceres trust-region strategy.
+/// \brief Which solver minimises the cost of one observation set.
+enum class ScanSolver {
+  kCeres,  ///< Ceres Solver, one dense residual block, trust region `trust_region` (default)
+  /// Levenberg-Marquardt on the fixed-size normal equations, the Jacobians accumulated in one
+  /// pass over the readings (scan_lm.hpp): Ceres's LM steps and stopping rules without its
+  /// general machinery, ~1.5x faster per solve for 3 to 6 unknowns. Not the default yet: on
+  /// ill-posed frames (hundreds of iterations along a flat direction) rounding differences
+  /// between the two send the UAV camera study's localizer down different paths (README).
+  kDense,
+};
+/// \brief Ceres trust-region strategy (ScanSolver::kCeres; the dense solver is LM).
 enum class TrustRegion { kLevenbergMarquardt, kDogleg };
 /// \brief Loss on each beam's squared disparity (besides the hard gate).
 enum class RobustLoss { kNone, kHuber, kCauchy };
@@ -45,6 +55,7 @@ enum class CovarianceMethod {
 /// \brief Options of the optimization localizer.
 struct VdtOptimizerOptions {
   VdtSensorModelOptions sensor;
+  ScanSolver solver = ScanSolver::kCeres;
   TrustRegion trust_region = TrustRegion::kLevenbergMarquardt;
   RobustLoss loss = RobustLoss::kNone;
   double loss_scale = 0.05;  ///< metres: where the robust loss departs from quadratic

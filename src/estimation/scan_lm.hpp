@@ -1,0 +1,199 @@
+#pragma once
+/// \file
+/// \brief The small-problem solver of the optimizer: Levenberg-Marquardt on the fixed-size normal
+/// equations of one observation set (3 unknowns in 2D, 6 in 3D, 4 in the 4-DOF mode), with the
+/// sensor model's analytic Jacobians accumulated in one pass over the readings. What Ceres does
+/// for this problem, without its per-solve and per-iteration machinery (problem construction,
+/// program evaluation, Jacobian copies), which dominates for a few unknowns.
+///
+/// Cost (the one Ceres minimises with the ScanCost block, halved as Ceres reports it):
+///   F(X) = 1/2 sum_i w_i^2 rho(|d_i|^2)                    (rho(s) = s without a robust loss)
+/// Gradient and Gauss-Newton matrix, in the pose perturbation of PoseTraits<Dim>:
+///   g = sum_i w_i^2 rho'_i J_i^T d_i,   H = sum_i w_i^2 rho'_i J_i^T J_i   (the IRLS weighting)
+/// Step: (H + lambda D) delta = -g, D = diag(H) clamped to [1e-6, 1e32] (Ceres's LM), accepted
+/// when the cost decreases; lambda follows Nielsen's rule as Ceres's trust region does. Stops as
+/// Ceres does: |F - F_new| <= function_tolerance F, or |delta| <= parameter_tolerance (|x| +
+/// parameter_tolerance), or the iteration limit.
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include <Eigen/Cholesky>
+
+#include "vdtnav/core/traits.hpp"
+#include "vdtnav/estimation/vdt_optimizer.hpp"
+#include "vdtnav/sensor/observation_set.hpp"
+#include "vdtnav/sensor/vdt_sensor_model.hpp"
+
+namespace vdtnav::detail {
+
+/// rho(s) and rho'(s) of a robust loss of the given scale (b = scale^2) at the squared disparity s,
+/// as Ceres defines them: Huber rho = s (s <= b), 2 sqrt(b s) - b; Cauchy rho = b log(1 + s/b).
+struct RobustValue {
+  double rho = 0.0, rho1 = 1.0;
+};
+inline RobustValue robust_value(RobustLoss loss, double scale, double s) {
+  const double b = scale * scale;
+  switch (loss) {
+    case RobustLoss::kHuber:
+      if (s <= b) return {s, 1.0};
+      return {2.0 * std::sqrt(b * s) - b, std::sqrt(b / s)};
+    case RobustLoss::kCauchy:
+      return {b * std::log1p(s / b), 1.0 / (1.0 + s / b)};
+    case RobustLoss::kNone:
+      break;
+  }
+  return {s, 1.0};
+}
+
+/// Limits of one solve.
+struct ScanLmSettings {
+  int max_iterations = 25;
+  double function_tolerance = 1e-6;
+  double parameter_tolerance = 1e-6;
+  /// Components of the perturbation held at zero (the 4-DOF mode's dtheta_x, dtheta_y).
+  unsigned held_mask = 0;
+};
+
+/// What a solve did (the fields of ceres::Solver::Summary the optimizer reads).
+struct ScanLmSummary {
+  int iterations = 0;       ///< evaluations of a step, the start included (Ceres's count)
+  double final_cost = 0.0;  ///< F at the returned pose (half the robust VCD)
+  bool converged = false;   ///< a tolerance was met (not the iteration limit)
+  bool failed = false;      ///< the cost or the normal equations were not finite at the start
+};
+
+/// Minimises F over the readings `beams` of `scan` from `pose` (updated in place).
+/// \param sqrt_w per-reading weights w_i (empty: all 1), index k of `beams`.
+template <int Dim>
+ScanLmSummary solve_scan_lm(const VdtSensorModelT<Dim>& model, const ObservationSet<Dim>& scan,
+                            const std::vector<int>& beams, const std::vector<double>& sqrt_w,
+                            RobustLoss loss, double loss_scale, const ScanLmSettings& settings,
+                            typename PoseTraits<Dim>::Pose* pose) {
+  using Traits = PoseTraits<Dim>;
+  using Pose = typename Traits::Pose;
+  using Tangent = typename Traits::Tangent;
+  using Normal = typename Traits::Covariance;
+  using Vector = typename SpaceTraits<Dim>::Vector;
+  constexpr int kDoF = Traits::kDoF;
+  // 3D lookups are memory-bound: once a point's spline support is in cache the Jacobian costs
+  // little more than the value, so trial points are evaluated with it (reused when accepted).
+  // 2D lookups are compute-bound: trials take the value-only lookup (about half the work).
+  constexpr bool kJacobianAtTrial = Dim == 3;
+
+  const auto weight = [&](std::size_t k) { return sqrt_w.empty() ? 1.0 : sqrt_w[k] * sqrt_w[k]; };
+  // Cost at X; with h, g given, also the normal equations there.
+  const auto evaluate = [&](const Pose& x, Normal* h, Tangent* g) {
+    const typename Traits::Rotation r = Traits::rotation(x);
+    const Vector t = Traits::translation(x);
+    double cost = 0.0;
+    if (h != nullptr) {
+      h->setZero();
+      g->setZero();
+    }
+    for (std::size_t k = 0; k < beams.size(); ++k) {
+      const int i = beams[k];
+      if (h == nullptr) {
+        const Vector d = model.disparity_value(r, t, scan.points[i], nullptr);
+        cost += weight(k) * robust_value(loss, loss_scale, d.squaredNorm()).rho;
+        continue;
+      }
+      const BeamDisparityT<Dim> b = model.disparity(r, t, scan.points[i], scan.directions[i]);
+      const RobustValue v = robust_value(loss, loss_scale, b.d.squaredNorm());
+      const double w = weight(k);
+      cost += w * v.rho;
+      h->noalias() += (w * v.rho1) * b.d_pose.transpose() * b.d_pose;
+      g->noalias() += (w * v.rho1) * b.d_pose.transpose() * b.d;
+    }
+    if (h != nullptr) {
+      for (int c = 0; c < kDoF; ++c) {
+        if (!(settings.held_mask & (1u << c))) continue;
+        h->row(c).setZero();
+        h->col(c).setZero();
+        (*h)(c, c) = 1.0;
+        (*g)[c] = 0.0;
+      }
+    }
+    return 0.5 * cost;
+  };
+  // |x| of Ceres's parameter tolerance: 2D (x, y, phi); 3D the ambient (unit quaternion, t).
+  const auto norm_of = [](const Pose& x) {
+    if constexpr (Dim == 2) {
+      return x.norm();
+    } else {
+      return std::sqrt(1.0 + x.translation().squaredNorm());
+    }
+  };
+
+  ScanLmSummary summary;
+  Normal h, h_trial;
+  Tangent g, g_trial;
+  double cost = evaluate(*pose, &h, &g);
+  summary.iterations = 1;
+  summary.final_cost = cost;
+  if (!std::isfinite(cost) || !h.allFinite() || !g.allFinite()) {
+    summary.failed = true;
+    return summary;
+  }
+  double mu = 1e4;  // Ceres's initial trust-region radius: lambda = 1 / mu
+  double nu = 2.0;
+  while (summary.iterations < settings.max_iterations + 1) {
+    Normal a = h;
+    for (int c = 0; c < kDoF; ++c) a(c, c) += std::clamp(h(c, c), 1e-6, 1e32) / mu;
+    // Cholesky as Ceres's DENSE_NORMAL_CHOLESKY: a matrix it cannot factor is an invalid step.
+    const Eigen::LLT<Normal> llt(a);
+    Tangent delta = llt.solve(-g);
+    for (int c = 0; c < kDoF; ++c) {
+      if (settings.held_mask & (1u << c)) delta[c] = 0.0;
+    }
+    if (llt.info() != Eigen::Success || !delta.allFinite()) {  // more damping
+      ++summary.iterations;
+      mu /= nu;
+      nu *= 2.0;
+      continue;
+    }
+    // Ceres's order: parameter tolerance on the step (x is kept; checked before the candidate's
+    // evaluation, which would not change the outcome), function tolerance on the cost change.
+    if (delta.norm() <=
+        settings.parameter_tolerance * (norm_of(*pose) + settings.parameter_tolerance)) {
+      summary.converged = true;
+      break;
+    }
+    ++summary.iterations;
+    const double model_decrease = -(g.dot(delta) + 0.5 * delta.dot(h * delta));
+    const Pose candidate = Traits::plus(*pose, delta);
+    const double new_cost = kJacobianAtTrial ? evaluate(candidate, &h_trial, &g_trial)
+                                             : evaluate(candidate, nullptr, nullptr);
+    if (std::isfinite(new_cost) &&
+        std::abs(cost - new_cost) <= settings.function_tolerance * cost) {
+      summary.converged = true;  // Ceres keeps x here, not the candidate
+      break;
+    }
+    // A step the model does not predict to decrease the cost is invalid (Ceres: shrink).
+    const double ratio = model_decrease > 0.0 ? (cost - new_cost) / model_decrease : -1.0;
+    if (std::isfinite(new_cost) && ratio > 1e-3) {
+      *pose = candidate;
+      cost = new_cost;
+      if (kJacobianAtTrial) {
+        h = h_trial;
+        g = g_trial;
+      } else {
+        evaluate(*pose, &h, &g);
+      }
+      mu = std::min(mu / std::max(1.0 / 3.0, 1.0 - std::pow(2.0 * ratio - 1.0, 3)), 1e16);
+      nu = 2.0;
+    } else {
+      mu /= nu;
+      nu *= 2.0;
+      if (mu < 1e-32) {  // Ceres's min_trust_region_radius: no step decreases the cost
+        summary.converged = true;
+        break;
+      }
+    }
+  }
+  summary.final_cost = cost;
+  return summary;
+}
+
+}  // namespace vdtnav::detail
