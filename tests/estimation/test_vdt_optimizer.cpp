@@ -198,6 +198,41 @@ TEST_P(RobustLossTest, MinimisesTheRobustCostAndResistsClutter) {
 INSTANTIATE_TEST_SUITE_P(Losses, RobustLossTest,
                          ::testing::Values(RobustLoss::kHuber, RobustLoss::kCauchy));
 
+/// The work of an update is counted: a good guess needs one fine solve per gate round and no
+/// coarse-to-fine alignment; a guess 0.35 m off runs it (and its iterations count); a scan the
+/// solution explains poorly (half of it clutter) makes the localizer search a window.
+TEST(VdtOptimizerWork, CoarseToFineWindowSearchAndIterationsAreCounted) {
+  const VdtOptimizer opt(world().map);
+  std::mt19937 rng(8);
+  const Pose2 truth = test::tour_pose(5);
+  const ScanPoints scan = scan_points(test::simulate_scan(truth, 0.01, rng));
+  const LocalizationResult near = opt.solve(scan, truth + Pose2(0.02, -0.01, 0.005));
+  EXPECT_EQ(near.work.coarse_to_fine, 0);
+  EXPECT_GE(near.work.solves, 1);
+  EXPECT_LE(near.work.solves, opt.options().gate_rounds);
+  const LocalizationResult far = opt.solve(scan, truth + Pose2(0.25, -0.25, 0.1));
+  ASSERT_EQ(far.status, LocalizationStatus::kConverged);
+  EXPECT_EQ(far.work.coarse_to_fine, 1);
+  // The coarse levels' iterations are part of the count: more than the fine solves alone take.
+  VdtOptimizerOptions fine_only;
+  fine_only.pyramid_levels = 0;
+  fine_only.coarse_threshold = 1e9;
+  const LocalizationResult plain = VdtOptimizer(world().map, fine_only).solve(scan, far.pose);
+  EXPECT_GT(far.iterations, plain.iterations);
+  EXPECT_EQ(far.work.window_searches, 0);  // the optimizer alone never searches
+
+  VdtOptimizerOptions lo;
+  lo.search.search_below = 0.95;
+  VdtOptimizationLocalizer loc(world().map, lo);
+  loc.reset(truth, Eigen::Vector3d(1e-4, 1e-4, 1e-4).asDiagonal());
+  LaserScan cluttered = test::simulate_scan(truth, 0.01, rng);
+  for (std::size_t i = 0; i < cluttered.ranges.size(); i += 2) cluttered.ranges[i] *= 0.5;
+  const LocalizationResult r = loc.update(OdometryStep{}, cluttered);
+  EXPECT_EQ(r.work.window_searches, 1);
+  EXPECT_EQ(loc.update(OdometryStep{}, test::simulate_scan(truth, 0.01, rng)).work.window_searches,
+            0);
+}
+
 TEST(VdtOptimizerInput, EmptyNanAndFullyGatedScansSayWhy) {
   const VdtOptimizer opt(world().map);
   const Pose2 guess = test::tour_pose(3);
