@@ -10,8 +10,9 @@
 ///   F(X) = 1/2 sum_i w_i^2 rho(|d_i|^2)                    (rho(s) = s without a robust loss)
 /// Gradient and Gauss-Newton matrix, in the pose perturbation of PoseTraits<Dim>:
 ///   g = sum_i w_i^2 rho'_i J_i^T d_i,   H = sum_i w_i^2 rho'_i J_i^T J_i   (the IRLS weighting)
-/// Step: (H + lambda D) delta = -g, D = diag(H) clamped to [1e-6, 1e32] (Ceres's LM), accepted
-/// when the cost decreases; lambda follows Nielsen's rule as Ceres's trust region does. Stops as
+/// Step: (H + lambda D) delta = -g, D = diag(H) clamped to [1e-6, 1e32] (Ceres's LM), factored by
+/// Cholesky and accepted when the cost falls by at least 1e-3 of the model's predicted decrease;
+/// lambda = 1 / radius with Ceres's (Nielsen's) radius update. Stops as
 /// Ceres does: |F - F_new| <= function_tolerance F, or |delta| <= parameter_tolerance (|x| +
 /// parameter_tolerance), or the iteration limit.
 
