@@ -29,23 +29,39 @@
 
 namespace vdtnav::detail {
 
-/// rho(s) and rho'(s) of a robust loss of the given scale (b = scale^2) at the squared disparity s,
-/// as Ceres defines them: Huber rho = s (s <= b), 2 sqrt(b s) - b; Cauchy rho = b log(1 + s/b).
+/// rho'(s) of a robust loss of the given scale (b = scale^2) at the squared disparity s, the IRLS
+/// weight: 1 (none), 1 or sqrt(b / s) (Huber), 1 / (1 + s/b) (Cauchy). No logarithm: the weights
+/// of the Jacobian passes and of the covariance need only this.
+inline double robust_weight(RobustLoss loss, double scale, double s) {
+  const double b = scale * scale;
+  switch (loss) {
+    case RobustLoss::kHuber:
+      return s <= b ? 1.0 : std::sqrt(b / s);
+    case RobustLoss::kCauchy:
+      return 1.0 / (1.0 + s / b);
+    case RobustLoss::kNone:
+      break;
+  }
+  return 1.0;
+}
+
+/// rho(s) and rho'(s) as Ceres defines them: Huber rho = s (s <= b), 2 sqrt(b s) - b; Cauchy
+/// rho = b log(1 + s/b).
 struct RobustValue {
   double rho = 0.0, rho1 = 1.0;
 };
 inline RobustValue robust_value(RobustLoss loss, double scale, double s) {
   const double b = scale * scale;
+  const double rho1 = robust_weight(loss, scale, s);
   switch (loss) {
     case RobustLoss::kHuber:
-      if (s <= b) return {s, 1.0};
-      return {2.0 * std::sqrt(b * s) - b, std::sqrt(b / s)};
+      return {s <= b ? s : 2.0 * std::sqrt(b * s) - b, rho1};
     case RobustLoss::kCauchy:
-      return {b * std::log1p(s / b), 1.0 / (1.0 + s / b)};
+      return {b * std::log1p(s / b), rho1};
     case RobustLoss::kNone:
       break;
   }
-  return {s, 1.0};
+  return {s, rho1};
 }
 
 /// Limits of one solve.
@@ -57,7 +73,8 @@ struct ScanLmSettings {
   unsigned held_mask = 0;
 };
 
-/// What a solve did (the fields of ceres::Solver::Summary the optimizer reads).
+/// What a solve did (the fields of ceres::Solver::Summary the optimizer reads; the optimizer
+/// reports a Ceres solve in the same form).
 struct ScanLmSummary {
   int iterations = 0;       ///< evaluations of a step, the start included (Ceres's count)
   double final_cost = 0.0;  ///< F at the returned pose (half the robust VCD)
@@ -84,8 +101,9 @@ ScanLmSummary solve_scan_lm(const VdtSensorModelT<Dim>& model, const Observation
   constexpr bool kJacobianAtTrial = Dim == 3;
 
   const auto weight = [&](std::size_t k) { return sqrt_w.empty() ? 1.0 : sqrt_w[k] * sqrt_w[k]; };
-  // Cost at X; with h, g given, also the normal equations there.
-  const auto evaluate = [&](const Pose& x, Normal* h, Tangent* g) {
+  // Cost at X (when want_cost: an accepted 2D step already knows it, and a Cauchy cost costs a
+  // logarithm per reading); with h, g given, also the normal equations there.
+  const auto evaluate = [&](const Pose& x, Normal* h, Tangent* g, bool want_cost = true) {
     const typename Traits::Rotation r = Traits::rotation(x);
     const Vector t = Traits::translation(x);
     double cost = 0.0;
@@ -101,11 +119,11 @@ ScanLmSummary solve_scan_lm(const VdtSensorModelT<Dim>& model, const Observation
         continue;
       }
       const BeamDisparityT<Dim> b = model.disparity(r, t, scan.points[i], scan.directions[i]);
-      const RobustValue v = robust_value(loss, loss_scale, b.d.squaredNorm());
-      const double w = weight(k);
-      cost += w * v.rho;
-      h->noalias() += (w * v.rho1) * b.d_pose.transpose() * b.d_pose;
-      g->noalias() += (w * v.rho1) * b.d_pose.transpose() * b.d;
+      const double s2 = b.d.squaredNorm(), w = weight(k);
+      if (want_cost) cost += w * robust_value(loss, loss_scale, s2).rho;
+      const double wr = w * robust_weight(loss, loss_scale, s2);
+      h->noalias() += wr * b.d_pose.transpose() * b.d_pose;
+      g->noalias() += wr * b.d_pose.transpose() * b.d;
     }
     if (h != nullptr) {
       for (int c = 0; c < kDoF; ++c) {
@@ -180,7 +198,7 @@ ScanLmSummary solve_scan_lm(const VdtSensorModelT<Dim>& model, const Observation
         h = h_trial;
         g = g_trial;
       } else {
-        evaluate(*pose, &h, &g);
+        evaluate(*pose, &h, &g, false);
       }
       mu = std::min(mu / std::max(1.0 / 3.0, 1.0 - std::pow(2.0 * ratio - 1.0, 3)), 1e16);
       nu = 2.0;

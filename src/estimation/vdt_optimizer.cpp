@@ -88,6 +88,7 @@ struct SolveSetup {
 };
 
 using detail::robust_value;
+using detail::robust_weight;
 using detail::RobustValue;
 
 /// All inlier readings of a set as one residual block (Dim residuals per reading, one pose block):
@@ -202,11 +203,6 @@ class ScanCost final : public ceres::CostFunction {
   mutable bool cache_valid_ = false;
 };
 
-/// IRLS weight rho'(s) of a beam with squared disparity s (1 without a robust loss).
-double loss_weight(RobustLoss loss, double scale, double s) {
-  return robust_value(loss, scale, s).rho1;
-}
-
 /// The Ceres settings of every solve here: 3 to 6 unknowns, one dense block, one thread, silent.
 /// The map stores float coefficients, so costs are known to ~1e-7 relative: ask no more.
 ceres::Solver::Options solver_options(const SolveSetup& setup) {
@@ -239,34 +235,22 @@ void set_manifold(ceres::Problem& problem, double* x, bool four_dof) {
   if (m != nullptr) problem.SetManifold(x, m);
 }
 
-/// What the optimizer reads of a solve, from either solver.
-struct SolveOutcome {
-  int iterations = 0;
-  double final_cost = 0.0;  // half the (robust) VCD, as Ceres reports it
-  bool converged = false;
-  bool failed = false;
-};
-
 /// One solve of the readings in `beams` from x (updated in place), weighted by sqrt_w (empty: 1).
 template <int Dim>
-SolveOutcome run_solver(const VdtSensorModelT<Dim>& model, const ObservationSet<Dim>& scan,
-                        const std::vector<int>& beams, const std::vector<double>& sqrt_w,
-                        RobustLoss loss, double loss_scale, const SolveSetup& setup, double* x) {
-  SolveOutcome out;
+detail::ScanLmSummary run_solver(const VdtSensorModelT<Dim>& model, const ObservationSet<Dim>& scan,
+                                 const std::vector<int>& beams, const std::vector<double>& sqrt_w,
+                                 RobustLoss loss, double loss_scale, const SolveSetup& setup,
+                                 double* x) {
   if (setup.solver == ScanSolver::kDense) {
     detail::ScanLmSettings ls;
     ls.max_iterations = setup.max_iterations;
     ls.function_tolerance = setup.function_tolerance;
     ls.parameter_tolerance = setup.parameter_tolerance;
-    ls.held_mask = (Dim == 3 && setup.four_dof) ? (1u << 3 | 1u << 4) : 0u;
+    ls.held_mask = (Dim == 3 && setup.four_dof) ? (1u << 3 | 1u << 4) : 0u;  // see is_free()
     typename PoseTraits<Dim>::Pose pose = Parameterization<Dim>::pose(x);
-    const detail::ScanLmSummary s =
+    const detail::ScanLmSummary out =
         detail::solve_scan_lm<Dim>(model, scan, beams, sqrt_w, loss, loss_scale, ls, &pose);
     Parameterization<Dim>::set(pose, x);
-    out.iterations = s.iterations;
-    out.final_cost = s.final_cost;
-    out.converged = s.converged;
-    out.failed = s.failed;
     return out;
   }
   ceres::Problem problem(problem_options());
@@ -276,6 +260,7 @@ SolveOutcome run_solver(const VdtSensorModelT<Dim>& model, const ObservationSet<
   const ceres::Solver::Options so = solver_options(setup);
   ceres::Solver::Summary summary;
   ceres::Solve(so, &problem, &summary);
+  detail::ScanLmSummary out;
   out.iterations = static_cast<int>(summary.iterations.size());
   out.final_cost = summary.final_cost;
   out.converged = summary.termination_type == ceres::CONVERGENCE;
@@ -299,7 +284,7 @@ int solve_cauchy_irls(const VdtSensorModelT<Dim>& model, const ObservationSet<Di
     const typename Traits::Vector t = Traits::translation(at);
     for (std::size_t k = 0; k < beams.size(); ++k) {
       const double s2 = model.disparity_value(r, t, scan.points[beams[k]], nullptr).squaredNorm();
-      sqrt_w[k] = std::sqrt(loss_weight(RobustLoss::kCauchy, scale, s2));
+      sqrt_w[k] = std::sqrt(robust_weight(RobustLoss::kCauchy, scale, s2));
     }
     iterations +=
         run_solver(model, scan, beams, sqrt_w, RobustLoss::kNone, 1.0, setup, x).iterations;
@@ -488,7 +473,7 @@ typename VdtOptimizerT<Dim>::Result VdtOptimizerT<Dim>::solve(const Observations
       result.pose = guess;
       return result;
     }
-    const SolveOutcome summary =
+    const detail::ScanLmSummary summary =
         run_solver(model_, scan, beams, {}, options_.loss, options_.loss_scale, setup, x);
     result.iterations += summary.iterations;
     ++result.work.solves;
@@ -552,7 +537,7 @@ bool VdtOptimizerT<Dim>::covariance(const Observations& scan, const Pose& pose,
     if (options_.covariance == CovarianceMethod::kImplicitFunction) {
       BeamCurvatureT<Dim> c;
       const BeamDisparityT<Dim> b = model_.disparity(r, t, scan.points[i], scan.directions[i], &c);
-      const double w = loss_weight(options_.loss, options_.loss_scale, b.d.squaredNorm());
+      const double w = robust_weight(options_.loss, options_.loss_scale, b.d.squaredNorm());
       h += w * c.hessian;  // (3.6), of d_VCD / 2
       if (point_cov) {
         middle.noalias() += (w * w) * c.cross_point * scan.point_covariances[i] *
@@ -565,7 +550,7 @@ bool VdtOptimizerT<Dim>::covariance(const Observations& scan, const Pose& pose,
       add_to_group(i, w * c.cross_point);
     } else {
       const BeamDisparityT<Dim> b = model_.disparity(r, t, scan.points[i], scan.directions[i]);
-      const double w = loss_weight(options_.loss, options_.loss_scale, b.d.squaredNorm());
+      const double w = robust_weight(options_.loss, options_.loss_scale, b.d.squaredNorm());
       h.noalias() += w * b.d_pose.transpose() * b.d_pose;
       const auto cov_d = point_cov ? model_.disparity_covariance_point(b, scan.point_covariances[i])
                                    : model_.disparity_covariance(b, scan.sigma_range);

@@ -19,16 +19,14 @@ namespace {
 
 /// Both solvers from `guess`: the Mahalanobis distance between their estimates (under the dense
 /// solver's covariance) and the relative difference of their covariances (Frobenius norm).
-template <int Dim>
 struct Agreement {
   double mahalanobis = 0.0, covariance = 0.0;
   int dense_iterations = 0, ceres_iterations = 0;
 };
 
 template <int Dim>
-Agreement<Dim> compare(const VdtMap<Dim>& map, VdtOptimizerOptions o,
-                       const ObservationSet<Dim>& obs,
-                       const typename PoseTraits<Dim>::Pose& guess) {
+Agreement compare(const VdtMap<Dim>& map, VdtOptimizerOptions o, const ObservationSet<Dim>& obs,
+                  const typename PoseTraits<Dim>::Pose& guess) {
   using Traits = PoseTraits<Dim>;
   o.solver = ScanSolver::kDense;
   const LocalizationResultT<Dim> a = VdtOptimizerT<Dim>(map, o).solve(obs, guess);
@@ -38,7 +36,7 @@ Agreement<Dim> compare(const VdtMap<Dim>& map, VdtOptimizerOptions o,
   EXPECT_EQ(b.status, LocalizationStatus::kConverged);
   EXPECT_TRUE(a.has_covariance && b.has_covariance);
   EXPECT_EQ(a.inliers, b.inliers);
-  Agreement<Dim> out;
+  Agreement out;
   const typename Traits::Tangent e = Traits::minus(a.pose, b.pose);
   // Held components (4-DOF) have zero rows: compare on the estimated ones.
   typename Traits::Covariance c = a.covariance;
@@ -63,7 +61,7 @@ TEST(ScanSolvers, DenseAndCeresReachTheSameOptimumAndCovarianceIn2d) {
       }
       VdtOptimizerOptions o;
       o.loss = loss;
-      const Agreement<2> g =
+      const Agreement g =
           compare<2>(test::world().map, o, scan_points(scan), truth + Pose2(0.06, -0.04, 0.03));
       // The two stop at slightly different points of the same minimum: within a tenth of a
       // standard deviation; the covariance, evaluated there, within 1 %.
@@ -90,7 +88,7 @@ TEST(ScanSolvers, DenseAndCeresReachTheSameOptimumAndCovarianceIn3dWithSixAndFou
           four_dof ? pose3_from_xyz_rpy(t.x(), t.y(), t.z(), rpy[0], rpy[1], rpy[2] + 0.03)
                    : pose3_from_xyz_rpy(t.x(), t.y(), t.z(), rpy[0] + 0.02, rpy[1] - 0.02,
                                         rpy[2] + 0.03);
-      const Agreement<3> g = compare<3>(test::world3().map, o, cloud, guess);
+      const Agreement g = compare<3>(test::world3().map, o, cloud, guess);
       EXPECT_LT(g.mahalanobis, 0.1) << "pose " << k << " four_dof " << four_dof;
       EXPECT_LT(g.covariance, 0.01) << "pose " << k << " four_dof " << four_dof;
       std::printf("3D pose %d %s: %.3g sigma apart, covariance %.2g, iterations %d / %d\n", k,
