@@ -3,9 +3,12 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <random>
+#include <vector>
 
 namespace vdtnav {
 namespace {
@@ -64,6 +67,37 @@ class VectorDistanceTransformTest : public ::testing::Test {
       }
     }
   }
+
+  /// Checks squared distances against the oracle over the list of occupied cells, for grids too
+  /// large for expect_exact (cells x occupied cells work instead of cells^2).
+  static void expect_exact_distances(const OccupancyGrid<kDim>& occ) {
+    std::vector<Index> occupied;
+    for (std::size_t o = 0; o < occ.num_cells(); ++o)
+      if (occ[o]) occupied.push_back(occ.index_of(static_cast<std::ptrdiff_t>(o)));
+    const auto nearest = nearest_occupied_cells(occ);
+    for (std::size_t c = 0; c < occ.num_cells(); ++c) {
+      const Index i = occ.index_of(static_cast<std::ptrdiff_t>(c));
+      std::int64_t best = std::numeric_limits<std::int64_t>::max();
+      for (const Index& o : occupied) best = std::min<std::int64_t>(best, (i - o).squaredNorm());
+      ASSERT_NE(nearest[c], kNoFeature) << "cell " << i.transpose();
+      ASSERT_TRUE(occ[static_cast<std::size_t>(nearest[c])]) << "feature of a cell is not occupied";
+      ASSERT_EQ((i - occ.index_of(nearest[c])).squaredNorm(), best) << "cell " << i.transpose();
+    }
+  }
+
+  /// Thin, odd and degenerate shapes (lines along every axis, sides of 1 and 2).
+  static std::vector<Index> odd_shapes() {
+    std::vector<std::array<int, 3>> sides = {{1, 1, 1}, {1, 57, 1}, {57, 1, 1}, {1, 1, 57},
+                                             {7, 3, 5}, {3, 5, 7},  {2, 31, 3}, {31, 2, 1},
+                                             {5, 1, 9}, {1, 9, 5},  {2, 2, 2},  {13, 11, 2}};
+    std::vector<Index> shapes;
+    for (const auto& s : sides) {
+      Index size;
+      for (int d = 0; d < kDim; ++d) size[d] = s[static_cast<std::size_t>(d)];
+      shapes.push_back(size);
+    }
+    return shapes;
+  }
 };
 TYPED_TEST_SUITE(VectorDistanceTransformTest, Dims);
 
@@ -86,6 +120,44 @@ TYPED_TEST(VectorDistanceTransformTest, EqualsBruteForceOnRandomGrids) {
     ++tested;
   }
   EXPECT_GE(tested, 100);
+}
+
+TYPED_TEST(VectorDistanceTransformTest, EqualsBruteForceOnOddShapes) {
+  std::mt19937 rng(97);
+  std::uniform_real_distribution<double> uni(0.0, 1.0);
+  for (const auto& size : TestFixture::odd_shapes()) {
+    SCOPED_TRACE(::testing::Message() << "size " << size.transpose());
+    auto occ = TestFixture::make(size);
+    std::uniform_int_distribution<std::size_t> cell(0, occ.num_cells() - 1);
+    for (int trial = 0; trial < 4; ++trial) {  // a single occupied cell, corners included
+      for (auto& v : occ.values()) v = 0;
+      occ[trial == 0 ? 0 : trial == 1 ? occ.num_cells() - 1 : cell(rng)] = 1;
+      TestFixture::expect_exact(occ);
+    }
+    for (auto& v : occ.values()) v = 1;  // all occupied
+    TestFixture::expect_exact(occ);
+    for (double p : {0.05, 0.3, 0.8}) {
+      bool any = false;
+      for (auto& v : occ.values()) any |= (v = uni(rng) < p ? 1 : 0) != 0;
+      if (!any) occ[cell(rng)] = 1;
+      TestFixture::expect_exact(occ);
+    }
+  }
+}
+
+TYPED_TEST(VectorDistanceTransformTest, LongLinesUseWideArithmetic) {
+  // Squared distances along a 30000-cell side exceed the int32 fast path: the int64 one runs.
+  constexpr int kDim = TestFixture::kDim;
+  std::mt19937 rng(5);
+  for (int axis = 0; axis < kDim; ++axis) {
+    typename TestFixture::Index size = TestFixture::Index::Constant(1);
+    size[axis] = 30000;
+    size[(axis + 1) % kDim] = 2;
+    auto occ = TestFixture::make(size);
+    std::uniform_int_distribution<std::size_t> cell(0, occ.num_cells() - 1);
+    for (int k = 0; k < 12; ++k) occ[cell(rng)] = 1;
+    TestFixture::expect_exact_distances(occ);
+  }
 }
 
 TYPED_TEST(VectorDistanceTransformTest, EmptyMapHasNoFeatures) {
