@@ -94,6 +94,28 @@ const Fixture<3>& fixture3() {
   return f;
 }
 
+/// The batch form (VdtMap::evaluate over a span of points), as the estimators call it: scans of
+/// `batch` consecutive points.
+template <int Dim>
+void lookup_batch(benchmark::State& state, const Fixture<Dim>& f, bool coherent,
+                  std::size_t batch) {
+  const auto& pts = coherent ? f.coherent : f.random;
+  std::vector<VdtSample<Dim>> out(batch);
+  std::size_t i = 0;
+  const bench::PerItemTimer timer;
+  for (auto _ : state) {
+    f.map.evaluate(pts.data() + i, batch, out.data());
+    benchmark::DoNotOptimize(out.data());
+    benchmark::ClobberMemory();
+    i += batch;
+    if (i + batch > pts.size()) i = 0;
+  }
+  timer.set(state, "ns_per_point", static_cast<double>(batch));
+  state.counters["points"] = static_cast<double>(pts.size());
+  state.counters["bytes_per_cell"] = f.bytes_per_cell;
+  state.counters["avx2"] = simd_level() == SimdLevel::kAvx2Fma ? 1.0 : 0.0;
+}
+
 template <int Dim, bool kHessian>
 void lookup(benchmark::State& state, const Fixture<Dim>& f, bool coherent) {
   const auto& pts = coherent ? f.coherent : f.random;
@@ -126,6 +148,12 @@ const bool kRegistered = [] {
                                [](benchmark::State& s) { lookup<3, false>(s, fixture3(), true); });
   benchmark::RegisterBenchmark("BM_VdtLookupGradient3D/random",
                                [](benchmark::State& s) { lookup<3, false>(s, fixture3(), false); });
+  benchmark::RegisterBenchmark("BM_VdtLookupGradient2D/coherent_batch", [](benchmark::State& s) {
+    lookup_batch<2>(s, fixture2(), true, 1081);
+  });
+  benchmark::RegisterBenchmark("BM_VdtLookupGradient3D/coherent_batch", [](benchmark::State& s) {
+    lookup_batch<3>(s, fixture3(), true, 1081);
+  });
   return true;
 }();
 

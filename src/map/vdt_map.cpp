@@ -4,6 +4,8 @@
 #include <string>
 #include <utility>
 
+#include "vdt_lookup_kernels.hpp"
+
 namespace vdtnav {
 namespace {
 
@@ -134,6 +136,17 @@ VdtMap<Dim> VdtMap<Dim>::build(const OccupancyGrid<Dim>& occupied, bool all_occu
   }
   Field field(occupied.size(), std::move(samples));
   return VdtMap(std::move(nearest), std::move(field));
+}
+
+template <int Dim>
+void VdtMap<Dim>::evaluate(const Vector* p, std::size_t n, VdtSample<Dim>* out,
+                           bool jacobian) const {
+  if (detail::evaluate_simd(*this, p, n, out, jacobian)) return;
+  if (jacobian) {
+    for (std::size_t k = 0; k < n; ++k) out[k] = evaluate(p[k]);
+  } else {
+    for (std::size_t k = 0; k < n; ++k) out[k].value = value(p[k], &out[k].inside);
+  }
 }
 
 template <int Dim>

@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <random>
+#include <vector>
 
 namespace vdtnav {
 namespace {
@@ -153,6 +154,56 @@ TYPED_TEST(VdtMapTest, OutsideQueriesAreClampedAndFlagged) {
   bool inside = true;
   (void)map.value(TestFixture::Vector::Constant(std::nan("")), &inside);
   EXPECT_FALSE(inside);
+}
+
+// The batch lookup (SIMD kernels chosen at run time) against the point lookup, at every
+// instruction set this CPU has: random points, points on and just off the hull, far outside, NaN,
+// on a map with unequal sides and an offset origin (an axis or stride mix-up shows at once).
+TYPED_TEST(VdtMapTest, BatchLookupAgreesWithThePointLookupAtEveryInstructionSet) {
+  constexpr int kDim = TestFixture::kDim;
+  using Vector = typename TestFixture::Vector;
+  using Index = typename TestFixture::Index;
+  Index size;
+  for (int d = 0; d < kDim; ++d) size[d] = (kDim == 2 ? 37 : 13) - 5 * d;
+  OccupancyGrid<kDim> occ(size, GridFrame<kDim>(0.07, Vector::LinSpaced(-1.3, 0.4)), 0);
+  std::mt19937 rng(5);
+  std::bernoulli_distribution wall(0.04);
+  for (auto& v : occ.values()) v = wall(rng) ? 1 : 0;
+  occ[0] = 1;
+  const auto map = VdtMap<kDim>::build(occ);
+
+  std::vector<Vector> pts;
+  std::uniform_real_distribution<double> uni(-0.2, 1.2);  // some outside
+  for (int k = 0; k < 2000; ++k) {
+    Vector u;
+    for (int d = 0; d < kDim; ++d) u[d] = uni(rng) * (size[d] - 1);
+    pts.push_back(occ.frame().world_point(u));
+  }
+  for (double edge : {0.0, -1e-12, 1.0, 1.0 + 1e-12, 1.0 + 1e-6}) {
+    Vector u;
+    for (int d = 0; d < kDim; ++d) u[d] = (d == 0 ? edge : 0.5) * (size[d] - 1);
+    pts.push_back(occ.frame().world_point(u));
+  }
+  pts.push_back(Vector::Constant(1e6));
+  pts.push_back(Vector::Constant(std::nan("")));
+
+  const SimdLevel best = simd_level();
+  for (SimdLevel level : {SimdLevel::kBaseline, SimdLevel::kAvx2Fma}) {
+    if (set_simd_level(level) != level) continue;  // the CPU lacks it
+    std::vector<VdtSample<kDim>> batch(pts.size()), values(pts.size());
+    map.evaluate(pts.data(), pts.size(), batch.data());
+    map.evaluate(pts.data(), pts.size(), values.data(), /*jacobian=*/false);
+    for (std::size_t k = 0; k < pts.size(); ++k) {
+      const auto one = map.evaluate(pts[k]);
+      ASSERT_EQ(batch[k].inside, one.inside) << "point " << k;
+      ASSERT_EQ(values[k].inside, one.inside) << "point " << k;
+      ASSERT_LT((values[k].value - one.value).cwiseAbs().maxCoeff(), 1e-5) << "point " << k;
+      // Float coefficients summed in another order, with fused multiply-adds: a few ulps.
+      ASSERT_LT((batch[k].value - one.value).cwiseAbs().maxCoeff(), 1e-5) << "point " << k;
+      ASSERT_LT((batch[k].jacobian - one.jacobian).cwiseAbs().maxCoeff(), 1e-4) << "point " << k;
+    }
+  }
+  set_simd_level(best);
 }
 
 TYPED_TEST(VdtMapTest, NearestPointQueryIsExact) {

@@ -18,6 +18,20 @@
 
 namespace vdtnav {
 
+/// \brief Instruction sets of the batch lookup (VdtMap::evaluate over many points).
+enum class SimdLevel {
+  kBaseline,  ///< the portable evaluation (SSE2 on x86-64)
+  kAvx2Fma,   ///< AVX2 + FMA kernels
+};
+
+/// \return the instruction set of the batch lookup: the best the CPU has, chosen at run time
+/// (the library and its headers are compiled for the baseline ISA).
+[[nodiscard]] SimdLevel simd_level() noexcept;
+
+/// \brief Chooses the batch lookup's instruction set (tests and benchmarks compare them); a level
+/// the CPU lacks falls back to kBaseline. \return the level now in use.
+SimdLevel set_simd_level(SimdLevel level) noexcept;
+
 /// \brief DT_v and its Jacobian at a query point.
 template <int Dim>
 struct VdtSample {
@@ -66,6 +80,12 @@ class VdtMap {
     to_world(s);
     return s;
   }
+
+  /// \brief evaluate() at n points (out[k] for p[k]), the batch form the estimators use: the
+  /// SIMD kernels of simd_level(), no call per point. The AVX2 kernels sum in another order with
+  /// fused multiply-adds: results differ from evaluate()'s by float rounding of the coefficients.
+  /// Without `jacobian`, only the values and the inside flags are written (about half the work).
+  void evaluate(const Vector* p, std::size_t n, VdtSample<Dim>* out, bool jacobian = true) const;
 
   /// \brief Interpolated DT_v, Jacobian and Hessians at world point p.
   [[nodiscard]] VdtSampleWithHessian<Dim> evaluate_with_hessian(const Vector& p) const;

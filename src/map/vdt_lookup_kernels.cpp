@@ -1,0 +1,291 @@
+// Batch lookups of DT_v and its Jacobian (VdtMap::evaluate over many points) with the instruction
+// set chosen at run time: AVX2 + FMA where the CPU has them, the portable evaluation of
+// cubic_bspline.hpp otherwise. The library is compiled for the baseline ISA; only the functions
+// below carry target("avx2,fma"), and they use intrinsics only (no inline function of another
+// library is instantiated with AVX2 code, which the linker could pick for a baseline caller).
+//
+// Per point: the continuous index u = (p - origin) / resolution - 1/2, clamped to the node hull
+// (CubicBSplineField::clamp), and the sums of CubicBSplineField::evaluate_impl: per plane
+// p = sum_j wy_j row_j (and its y derivative), over planes a = sum_k wz_k p (and the z
+// derivatives), x reduced last with the node weights spread over the lanes of a row (node l =
+// lane / channels). The Jacobian leaves in world units (times 1 / resolution); maps rotated in
+// the world take the portable path.
+#include "vdt_lookup_kernels.hpp"
+
+#include <atomic>
+#include <cstdlib>
+#include <cstring>
+
+#if defined(__x86_64__)
+#include <immintrin.h>
+#define VDTNAV_HAVE_X86_KERNELS 1
+#else
+#define VDTNAV_HAVE_X86_KERNELS 0
+#endif
+
+namespace vdtnav {
+namespace {
+
+bool cpu_has_avx2_fma() {
+#if VDTNAV_HAVE_X86_KERNELS
+  __builtin_cpu_init();
+  return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+#else
+  return false;
+#endif
+}
+
+/// The best level of this CPU, unless the environment variable VDTNAV_SIMD=baseline asks for the
+/// portable kernels (results then repeat bit for bit across machines).
+std::atomic<SimdLevel>& chosen_level() {
+  static std::atomic<SimdLevel> level{[] {
+    const char* env = std::getenv("VDTNAV_SIMD");
+    const bool baseline = env != nullptr && std::strcmp(env, "baseline") == 0;
+    return !baseline && cpu_has_avx2_fma() ? SimdLevel::kAvx2Fma : SimdLevel::kBaseline;
+  }()};
+  return level;
+}
+
+#if VDTNAV_HAVE_X86_KERNELS
+#define VDTNAV_AVX2 __attribute__((target("avx2,fma")))
+
+// Same tolerance as CubicBSplineField::clamp: points on the hull up to rounding are inside.
+constexpr double kHullTolerance = 1e-9;
+constexpr std::size_t kPrefetch = 4;  // points ahead
+
+/// Cubic B-spline weights (CubicBSplineWeights) of the offsets in t: lanes 0-3 the four nodes of
+/// lane 0's offset, lanes 4-7 those of lane 4's.
+VDTNAV_AVX2 inline void spline_weights(__m256 t, __m256* w, __m256* dw) {
+  constexpr float k = 1.0F / 6.0F;
+  const __m256 a0 = _mm256_setr_ps(k, 4 * k, k, 0, k, 4 * k, k, 0);
+  const __m256 a1 = _mm256_setr_ps(-3 * k, 0, 3 * k, 0, -3 * k, 0, 3 * k, 0);
+  const __m256 a2 = _mm256_setr_ps(3 * k, -6 * k, 3 * k, 0, 3 * k, -6 * k, 3 * k, 0);
+  const __m256 a3 = _mm256_setr_ps(-k, 3 * k, -3 * k, k, -k, 3 * k, -3 * k, k);
+  *w = _mm256_fmadd_ps(_mm256_fmadd_ps(_mm256_fmadd_ps(a3, t, a2), t, a1), t, a0);
+  *dw = _mm256_fmadd_ps(
+      _mm256_fmadd_ps(_mm256_mul_ps(_mm256_set1_ps(3.0F), a3), t, _mm256_add_ps(a2, a2)), t, a1);
+}
+
+/// The 8 lanes of a weight vector, spilled so that a lane is broadcast by a load
+/// (vbroadcastss from memory runs on the load ports; a lane permute would compete with the
+/// reductions' shuffles for the one shuffle port).
+struct alignas(32) Lanes {
+  float f[8];
+  VDTNAV_AVX2 explicit Lanes(__m256 v) { _mm256_store_ps(f, v); }
+  VDTNAV_AVX2 __m256 operator[](int i) const { return _mm256_broadcast_ss(f + i); }
+};
+
+/// 2 channels x 4 nodes (lanes c0 c1 c0 c1 ...) summed per channel: lanes 0, 1 of the result.
+VDTNAV_AVX2 inline __m128 reduce_2(__m256 v) {
+  const __m128 h = _mm_add_ps(_mm256_castps256_ps128(v), _mm256_extractf128_ps(v, 1));
+  return _mm_add_ps(h, _mm_movehl_ps(h, h));
+}
+
+/// 3 channels x 4 nodes in 12 lanes (A B = ab, C = c) summed per channel: lanes 0-2 of
+///   A + (A3 B0 B1 B2) + (B2 B3 C0 C1) + (C1 C2 C3 0).
+VDTNAV_AVX2 inline __m128 reduce_3(__m256 ab, __m128 c) {
+  const __m128i a = _mm_castps_si128(_mm256_castps256_ps128(ab));
+  const __m128i b = _mm_castps_si128(_mm256_extractf128_ps(ab, 1));
+  const __m128i ci = _mm_castps_si128(c);
+  const __m128 s1 = _mm_add_ps(_mm_castsi128_ps(a), _mm_castsi128_ps(_mm_alignr_epi8(b, a, 12)));
+  const __m128 s2 = _mm_add_ps(_mm_castsi128_ps(_mm_alignr_epi8(ci, b, 8)),
+                               _mm_castsi128_ps(_mm_srli_si128(ci, 4)));
+  return _mm_add_ps(s1, s2);
+}
+
+/// Writes lanes 0-2 of v as doubles to dst[0..2].
+VDTNAV_AVX2 inline void store3(double* dst, __m128 v) {
+  _mm256_maskstore_pd(dst, _mm256_setr_epi64x(-1, -1, -1, 0), _mm256_cvtps_pd(v));
+}
+
+template <bool kGradient>
+VDTNAV_AVX2 void lookup_2d_avx2(const VdtMap<2>& map, const Eigen::Vector2d* p, std::size_t n,
+                                VdtSample<2>* out) {
+  const float* coef = map.field().coefficients().data();
+  const Eigen::Vector2i size = map.size();
+  const int padded_x = size.x() + 2;
+  const std::ptrdiff_t row_stride = static_cast<std::ptrdiff_t>(padded_x) * 2;
+  const __m128d origin = _mm_loadu_pd(map.frame().origin().data());
+  const __m128d inv_res = _mm_set1_pd(map.frame().inv_resolution());
+  const __m128d half = _mm_set1_pd(0.5), zero = _mm_setzero_pd();
+  const __m128d hi = _mm_setr_pd(size.x() - 1, size.y() - 1);
+  const __m128d lo_tol = _mm_set1_pd(-kHullTolerance);
+  const __m128d hi_tol = _mm_add_pd(hi, _mm_set1_pd(kHullTolerance));
+  const __m128i last_span = _mm_setr_epi32(size.x() - 2, size.y() - 2, 0, 0);
+  const __m256i spread = _mm256_setr_epi32(0, 0, 1, 1, 2, 2, 3, 3);
+  const __m256i halves = _mm256_setr_epi32(0, 0, 0, 0, 1, 1, 1, 1);
+  const __m128 to_world = _mm_set1_ps(static_cast<float>(map.frame().inv_resolution()));
+  for (std::size_t i = 0; i < n; ++i) {
+    const __m128d u =
+        _mm_sub_pd(_mm_mul_pd(_mm_sub_pd(_mm_loadu_pd(p[i].data()), origin), inv_res), half);
+    // NaN compares false (outside) and _mm_max_pd returns its second operand for it (node 0).
+    const __m128d in = _mm_and_pd(_mm_cmpge_pd(u, lo_tol), _mm_cmple_pd(u, hi_tol));
+    out[i].inside = _mm_movemask_pd(in) == 3;
+    const __m128d uc = _mm_min_pd(_mm_max_pd(u, zero), hi);
+    const __m128i base = _mm_min_epi32(_mm_cvttpd_epi32(uc), last_span);  // u = n-1: t = 1
+    const __m128 t = _mm_cvtpd_ps(_mm_sub_pd(uc, _mm_cvtepi32_pd(base)));
+    const int ix = _mm_cvtsi128_si32(base), iy = _mm_extract_epi32(base, 1);
+    const float* c0 = coef + (static_cast<std::ptrdiff_t>(iy) * padded_x + ix) * 2;
+    __m256 w, dw;
+    spline_weights(_mm256_permutevar8x32_ps(_mm256_castps128_ps256(t), halves), &w, &dw);
+    // Rows 0, 1 and 2, 3 in two independent chains (shorter latency than one chain of four).
+    const __m256 r0 = _mm256_loadu_ps(c0), r1 = _mm256_loadu_ps(c0 + row_stride),
+                 r2 = _mm256_loadu_ps(c0 + 2 * row_stride),
+                 r3 = _mm256_loadu_ps(c0 + 3 * row_stride);
+    const Lanes lw(w), ldw(dw);
+    const __m256 py0 = _mm256_add_ps(_mm256_fmadd_ps(lw[5], r1, _mm256_mul_ps(lw[4], r0)),
+                                     _mm256_fmadd_ps(lw[7], r3, _mm256_mul_ps(lw[6], r2)));
+    const __m256 ex = _mm256_permutevar8x32_ps(w, spread);
+    _mm_storeu_pd(out[i].value.data(), _mm_cvtps_pd(reduce_2(_mm256_mul_ps(py0, ex))));
+    if constexpr (!kGradient) continue;
+    const __m256 py1 = _mm256_add_ps(_mm256_fmadd_ps(ldw[5], r1, _mm256_mul_ps(ldw[4], r0)),
+                                     _mm256_fmadd_ps(ldw[7], r3, _mm256_mul_ps(ldw[6], r2)));
+    const __m256 edx = _mm256_permutevar8x32_ps(dw, spread);
+    double* jac = out[i].jacobian.data();  // column-major: column d = d/dp_d of the components
+    _mm_storeu_pd(jac, _mm_cvtps_pd(_mm_mul_ps(reduce_2(_mm256_mul_ps(py0, edx)), to_world)));
+    _mm_storeu_pd(jac + 2, _mm_cvtps_pd(_mm_mul_ps(reduce_2(_mm256_mul_ps(py1, ex)), to_world)));
+  }
+}
+
+template <bool kGradient>
+VDTNAV_AVX2 void lookup_3d_avx2(const VdtMap<3>& map, const Eigen::Vector3d* p, std::size_t n,
+                                VdtSample<3>* out) {
+  const float* coef = map.field().coefficients().data();
+  const Eigen::Vector3i size = map.size();
+  const Eigen::Vector3i padded = size + Eigen::Vector3i::Constant(2);
+  const std::ptrdiff_t row_stride = static_cast<std::ptrdiff_t>(padded.x()) * 3;
+  const std::ptrdiff_t plane_stride = row_stride * padded.y();
+  const __m256i first3 = _mm256_setr_epi64x(-1, -1, -1, 0);
+  const Eigen::Vector3d& o = map.frame().origin();
+  const __m256d origin = _mm256_setr_pd(o.x(), o.y(), o.z(), 0.0);
+  const __m256d inv_res = _mm256_set1_pd(map.frame().inv_resolution());
+  const __m256d half = _mm256_set1_pd(0.5), zero = _mm256_setzero_pd();
+  const __m256d hi = _mm256_setr_pd(size.x() - 1, size.y() - 1, size.z() - 1, 0.0);
+  const __m256d lo_tol = _mm256_set1_pd(-kHullTolerance);
+  const __m256d hi_tol = _mm256_add_pd(hi, _mm256_set1_pd(kHullTolerance));
+  const __m128i last_span = _mm_setr_epi32(size.x() - 2, size.y() - 2, size.z() - 2, 0);
+  const __m256i spread_ab = _mm256_setr_epi32(0, 0, 0, 1, 1, 1, 2, 2);
+  const __m256i spread_c = _mm256_setr_epi32(2, 3, 3, 3, 3, 3, 3, 3);
+  const __m256i xy_halves = _mm256_setr_epi32(0, 0, 0, 0, 1, 1, 1, 1);
+  const __m256i z_lanes = _mm256_set1_epi32(2);
+  const __m128 to_world = _mm_set1_ps(static_cast<float>(map.frame().inv_resolution()));
+  // The support of point i + kPrefetch is requested while point i is summed: 16 rows in 4
+  // planes, mostly not in L1 (scan endpoints hop between walls), whose latency would otherwise
+  // serialise the loop.
+  const auto support = [&](std::size_t k) VDTNAV_AVX2 {
+    const __m256d u = _mm256_sub_pd(
+        _mm256_mul_pd(_mm256_sub_pd(_mm256_maskload_pd(p[k].data(), first3), origin), inv_res),
+        half);
+    const __m128i b =
+        _mm_min_epi32(_mm256_cvttpd_epi32(_mm256_min_pd(_mm256_max_pd(u, zero), hi)), last_span);
+    return coef + ((static_cast<std::ptrdiff_t>(_mm_extract_epi32(b, 2)) * padded.y() +
+                    _mm_extract_epi32(b, 1)) *
+                       padded.x() +
+                   _mm_cvtsi128_si32(b)) *
+                      3;
+  };
+  for (std::size_t i = 0; i < n; ++i) {
+    if (i + kPrefetch < n) {
+      const float* f = support(i + kPrefetch);
+      for (int k = 0; k < 4; ++k)
+        for (int j = 0; j < 4; ++j) {
+          const char* row = reinterpret_cast<const char*>(f + k * plane_stride + j * row_stride);
+          _mm_prefetch(row, _MM_HINT_T0);
+          _mm_prefetch(row + 44, _MM_HINT_T0);
+        }
+    }
+    const __m256d u = _mm256_sub_pd(
+        _mm256_mul_pd(_mm256_sub_pd(_mm256_maskload_pd(p[i].data(), first3), origin), inv_res),
+        half);
+    const __m256d in =
+        _mm256_and_pd(_mm256_cmp_pd(u, lo_tol, _CMP_GE_OQ), _mm256_cmp_pd(u, hi_tol, _CMP_LE_OQ));
+    out[i].inside = (_mm256_movemask_pd(in) & 7) == 7;
+    const __m256d uc = _mm256_min_pd(_mm256_max_pd(u, zero), hi);
+    const __m128i base = _mm_min_epi32(_mm256_cvttpd_epi32(uc), last_span);  // u = n-1: t = 1
+    const __m128 t = _mm256_cvtpd_ps(_mm256_sub_pd(uc, _mm256_cvtepi32_pd(base)));
+    const int ix = _mm_cvtsi128_si32(base), iy = _mm_extract_epi32(base, 1),
+              iz = _mm_extract_epi32(base, 2);
+    const float* c0 =
+        coef + ((static_cast<std::ptrdiff_t>(iz) * padded.y() + iy) * padded.x() + ix) * 3;
+    __m256 wxy, dwxy, wz, dwz;
+    const __m256 t8 = _mm256_castps128_ps256(t);
+    spline_weights(_mm256_permutevar8x32_ps(t8, xy_halves), &wxy, &dwxy);
+    spline_weights(_mm256_permutevar8x32_ps(t8, z_lanes), &wz, &dwz);
+    const Lanes lwxy(wxy), ldwxy(dwxy), lwz(wz), ldwz(dwz);
+    __m256 a_ab = _mm256_setzero_ps(), ay_ab = a_ab, az_ab = a_ab;
+    __m128 a_c = _mm_setzero_ps(), ay_c = a_c, az_c = a_c;
+    for (int k = 0; k < 4; ++k) {
+      const float* plane = c0 + k * plane_stride;
+      __m256 p_ab = _mm256_setzero_ps(), py_ab = p_ab;
+      __m128 p_c = _mm_setzero_ps(), py_c = p_c;
+      for (int j = 0; j < 4; ++j) {
+        const float* row = plane + j * row_stride;
+        const __m256 ab = _mm256_loadu_ps(row);  // a row: 4 nodes x 3 channels = 8 + 4 floats
+        const __m128 c = _mm_loadu_ps(row + 8);
+        const __m256 wy = lwxy[4 + j], dwy = ldwxy[4 + j];
+        p_ab = _mm256_fmadd_ps(wy, ab, p_ab);
+        py_ab = _mm256_fmadd_ps(dwy, ab, py_ab);
+        p_c = _mm_fmadd_ps(_mm256_castps256_ps128(wy), c, p_c);
+        py_c = _mm_fmadd_ps(_mm256_castps256_ps128(dwy), c, py_c);
+      }
+      const __m256 wk = lwz[k], dwk = ldwz[k];
+      a_ab = _mm256_fmadd_ps(wk, p_ab, a_ab);
+      ay_ab = _mm256_fmadd_ps(wk, py_ab, ay_ab);
+      az_ab = _mm256_fmadd_ps(dwk, p_ab, az_ab);
+      a_c = _mm_fmadd_ps(_mm256_castps256_ps128(wk), p_c, a_c);
+      ay_c = _mm_fmadd_ps(_mm256_castps256_ps128(wk), py_c, ay_c);
+      az_c = _mm_fmadd_ps(_mm256_castps256_ps128(dwk), p_c, az_c);
+    }
+    const __m256 ex_ab = _mm256_permutevar8x32_ps(wxy, spread_ab);
+    const __m256 edx_ab = _mm256_permutevar8x32_ps(dwxy, spread_ab);
+    const __m128 ex_c = _mm256_castps256_ps128(_mm256_permutevar8x32_ps(wxy, spread_c));
+    const __m128 edx_c = _mm256_castps256_ps128(_mm256_permutevar8x32_ps(dwxy, spread_c));
+    store3(out[i].value.data(), reduce_3(_mm256_mul_ps(a_ab, ex_ab), _mm_mul_ps(a_c, ex_c)));
+    if constexpr (!kGradient) continue;
+    double* jac = out[i].jacobian.data();  // column-major: column d = d/dp_d of the components
+    store3(jac,
+           _mm_mul_ps(reduce_3(_mm256_mul_ps(a_ab, edx_ab), _mm_mul_ps(a_c, edx_c)), to_world));
+    store3(jac + 3,
+           _mm_mul_ps(reduce_3(_mm256_mul_ps(ay_ab, ex_ab), _mm_mul_ps(ay_c, ex_c)), to_world));
+    store3(jac + 6,
+           _mm_mul_ps(reduce_3(_mm256_mul_ps(az_ab, ex_ab), _mm_mul_ps(az_c, ex_c)), to_world));
+  }
+}
+#endif  // VDTNAV_HAVE_X86_KERNELS
+
+}  // namespace
+
+SimdLevel simd_level() noexcept { return chosen_level().load(std::memory_order_relaxed); }
+
+SimdLevel set_simd_level(SimdLevel level) noexcept {
+  if (level == SimdLevel::kAvx2Fma && !cpu_has_avx2_fma()) level = SimdLevel::kBaseline;
+  chosen_level().store(level, std::memory_order_relaxed);
+  return level;
+}
+
+namespace detail {
+
+template <int Dim>
+bool evaluate_simd(const VdtMap<Dim>& map, const typename SpaceTraits<Dim>::Vector* p,
+                   std::size_t n, VdtSample<Dim>* out, bool jacobian) {
+#if VDTNAV_HAVE_X86_KERNELS
+  if (simd_level() != SimdLevel::kAvx2Fma || !map.frame().axis_aligned()) return false;
+  if constexpr (Dim == 2) {
+    jacobian ? lookup_2d_avx2<true>(map, p, n, out) : lookup_2d_avx2<false>(map, p, n, out);
+  } else {
+    jacobian ? lookup_3d_avx2<true>(map, p, n, out) : lookup_3d_avx2<false>(map, p, n, out);
+  }
+  return true;
+#else
+  (void)map, (void)p, (void)n, (void)out, (void)jacobian;
+  return false;
+#endif
+}
+
+template bool evaluate_simd<2>(const VdtMap<2>&, const Eigen::Vector2d*, std::size_t, VdtSample<2>*,
+                               bool);
+template bool evaluate_simd<3>(const VdtMap<3>&, const Eigen::Vector3d*, std::size_t, VdtSample<3>*,
+                               bool);
+
+}  // namespace detail
+}  // namespace vdtnav
