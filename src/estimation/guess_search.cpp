@@ -2,36 +2,31 @@
 
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
 namespace vdtnav {
 
 double explained_fraction(const VdtSensorModel& model, const ScanPoints& scan, const Pose2& pose,
                           double distance) {
   if (scan.size() == 0) return 0.0;
-  const double c = std::cos(pose[2]), s = std::sin(pose[2]);
+  std::vector<BeamDisparity> ds;
+  model.disparities(PoseTraits<2>::rotation(pose), pose.head<2>(), scan, nullptr, &ds, false);
   const double d2 = distance * distance;
   std::size_t n = 0;
-  for (std::size_t i = 0; i < scan.size(); ++i) {
-    bool inlier = false;
-    const Eigen::Vector2d d = model.disparity_value(pose, c, s, scan.points[i], &inlier);
-    n += inlier && d.squaredNorm() < d2;
-  }
+  for (const BeamDisparity& b : ds) n += b.inlier && b.d.squaredNorm() < d2;
   return static_cast<double>(n) / static_cast<double>(scan.size());
 }
 
 namespace {
 
-/// The truncated VCD over every `stride`-th beam.
-double truncated_vcd_strided(const VdtSensorModel& model, const ScanPoints& scan, const Pose2& pose,
-                             double tau, std::size_t stride) {
-  const double c = std::cos(pose[2]), s = std::sin(pose[2]);
+/// The truncated VCD over the readings `beams` (all when null).
+double truncated_vcd_of(const VdtSensorModel& model, const ScanPoints& scan, const Pose2& pose,
+                        double tau, const std::vector<int>* beams) {
+  thread_local std::vector<BeamDisparity> ds;
+  model.disparities(PoseTraits<2>::rotation(pose), pose.head<2>(), scan, beams, &ds, false);
   const double t2 = tau * tau;
   double sum = 0.0;
-  for (std::size_t i = 0; i < scan.size(); i += stride) {
-    bool inlier = false;
-    const Eigen::Vector2d d = model.disparity_value(pose, c, s, scan.points[i], &inlier);
-    sum += inlier ? std::min(d.squaredNorm(), t2) : t2;
-  }
+  for (const BeamDisparity& b : ds) sum += b.inlier ? std::min(b.d.squaredNorm(), t2) : t2;
   return sum;
 }
 
@@ -39,7 +34,7 @@ double truncated_vcd_strided(const VdtSensorModel& model, const ScanPoints& scan
 
 double truncated_vcd(const VdtSensorModel& model, const ScanPoints& scan, const Pose2& pose,
                      double tau) {
-  return truncated_vcd_strided(model, scan, pose, tau, 1);
+  return truncated_vcd_of(model, scan, pose, tau, nullptr);
 }
 
 Pose2 search_guess(const VdtSensorModel& model, const ScanPoints& scan, const Pose2& guess,
@@ -47,8 +42,10 @@ Pose2 search_guess(const VdtSensorModel& model, const ScanPoints& scan, const Po
   // Candidates are scored on an even subset of at most max_beams beams.
   const std::size_t stride =
       o.max_beams > 0 ? std::max<std::size_t>(1, (scan.size() + o.max_beams - 1) / o.max_beams) : 1;
+  std::vector<int> subset;
+  for (std::size_t i = 0; i < scan.size(); i += stride) subset.push_back(static_cast<int>(i));
   Pose2 best = guess;
-  double best_score = truncated_vcd_strided(model, scan, guess, o.truncation, stride);
+  double best_score = truncated_vcd_of(model, scan, guess, o.truncation, &subset);
   int hxy = std::max(0, o.steps_xy / 2), hyaw = std::max(0, o.steps_yaw / 2);
   const double sxy = hxy > 0 ? o.window_xy / hxy : 0.0;
   const double syaw = hyaw > 0 ? o.window_yaw / hyaw : 0.0;
@@ -67,7 +64,7 @@ Pose2 search_guess(const VdtSensorModel& model, const ScanPoints& scan, const Po
       for (int j = -hxy; j <= hxy; ++j) {
         if (a == 0 && i == 0 && j == 0) continue;
         const Pose2 c(guess[0] + i * sxy, guess[1] + j * sxy, wrap_angle(guess[2] + a * syaw));
-        const double score = truncated_vcd_strided(model, scan, c, o.truncation, stride);
+        const double score = truncated_vcd_of(model, scan, c, o.truncation, &subset);
         if (score < best_score) {
           best_score = score;
           best = c;

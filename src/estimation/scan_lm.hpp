@@ -93,46 +93,32 @@ ScanLmSummary solve_scan_lm(const VdtSensorModelT<Dim>& model, const Observation
   using Pose = typename Traits::Pose;
   using Tangent = typename Traits::Tangent;
   using Normal = typename Traits::Covariance;
-  using Vector = typename SpaceTraits<Dim>::Vector;
   constexpr int kDoF = Traits::kDoF;
-  // 3D lookups are memory-bound: once a point's spline support is in cache the Jacobian costs
-  // little more than the value, so trial points are evaluated with it (reused when accepted).
-  // 2D lookups are compute-bound: trials take the value-only lookup (about half the work).
-  constexpr bool kJacobianAtTrial = Dim == 3;
-
   const auto weight = [&](std::size_t k) { return sqrt_w.empty() ? 1.0 : sqrt_w[k] * sqrt_w[k]; };
-  // Cost at X (when want_cost: an accepted 2D step already knows it, and a Cauchy cost costs a
-  // logarithm per reading); with h, g given, also the normal equations there.
-  const auto evaluate = [&](const Pose& x, Normal* h, Tangent* g, bool want_cost = true) {
-    const typename Traits::Rotation r = Traits::rotation(x);
-    const Vector t = Traits::translation(x);
+  // Cost and normal equations at X in one batch lookup of the readings (the SIMD kernels: the
+  // Jacobian costs little more than the value there, so a trial point gets both, kept when the
+  // step is accepted).
+  std::vector<BeamDisparityT<Dim>> disparities;
+  const auto evaluate = [&](const Pose& x, Normal* h, Tangent* g) {
+    model.disparities(Traits::rotation(x), Traits::translation(x), scan, &beams, &disparities);
     double cost = 0.0;
-    if (h != nullptr) {
-      h->setZero();
-      g->setZero();
-    }
+    h->setZero();
+    g->setZero();
     for (std::size_t k = 0; k < beams.size(); ++k) {
-      const int i = beams[k];
-      if (h == nullptr) {
-        const Vector d = model.disparity_value(r, t, scan.points[i], nullptr);
-        cost += weight(k) * robust_value(loss, loss_scale, d.squaredNorm()).rho;
-        continue;
-      }
-      const BeamDisparityT<Dim> b = model.disparity(r, t, scan.points[i], scan.directions[i]);
+      const BeamDisparityT<Dim>& b = disparities[k];
       const double s2 = b.d.squaredNorm(), w = weight(k);
-      if (want_cost) cost += w * robust_value(loss, loss_scale, s2).rho;
-      const double wr = w * robust_weight(loss, loss_scale, s2);
+      const RobustValue rv = robust_value(loss, loss_scale, s2);
+      cost += w * rv.rho;
+      const double wr = w * rv.rho1;
       h->noalias() += wr * b.d_pose.transpose() * b.d_pose;
       g->noalias() += wr * b.d_pose.transpose() * b.d;
     }
-    if (h != nullptr) {
-      for (int c = 0; c < kDoF; ++c) {
-        if (!(settings.held_mask & (1u << c))) continue;
-        h->row(c).setZero();
-        h->col(c).setZero();
-        (*h)(c, c) = 1.0;
-        (*g)[c] = 0.0;
-      }
+    for (int c = 0; c < kDoF; ++c) {
+      if (!(settings.held_mask & (1u << c))) continue;
+      h->row(c).setZero();
+      h->col(c).setZero();
+      (*h)(c, c) = 1.0;
+      (*g)[c] = 0.0;
     }
     return 0.5 * cost;
   };
@@ -182,8 +168,7 @@ ScanLmSummary solve_scan_lm(const VdtSensorModelT<Dim>& model, const Observation
     ++summary.iterations;
     const double model_decrease = -(g.dot(delta) + 0.5 * delta.dot(h * delta));
     const Pose candidate = Traits::plus(*pose, delta);
-    const double new_cost = kJacobianAtTrial ? evaluate(candidate, &h_trial, &g_trial)
-                                             : evaluate(candidate, nullptr, nullptr);
+    const double new_cost = evaluate(candidate, &h_trial, &g_trial);
     if (std::isfinite(new_cost) &&
         std::abs(cost - new_cost) <= settings.function_tolerance * cost) {
       summary.converged = true;  // Ceres keeps x here, not the candidate
@@ -194,12 +179,8 @@ ScanLmSummary solve_scan_lm(const VdtSensorModelT<Dim>& model, const Observation
     if (std::isfinite(new_cost) && ratio > 1e-3) {
       *pose = candidate;
       cost = new_cost;
-      if (kJacobianAtTrial) {
-        h = h_trial;
-        g = g_trial;
-      } else {
-        evaluate(*pose, &h, &g, false);
-      }
+      h = h_trial;
+      g = g_trial;
       mu = std::min(mu / std::max(1.0 / 3.0, 1.0 - std::pow(2.0 * ratio - 1.0, 3)), 1e16);
       nu = 2.0;
     } else {

@@ -278,13 +278,12 @@ int solve_cauchy_irls(const VdtSensorModelT<Dim>& model, const ObservationSet<Di
   using Traits = PoseTraits<Dim>;
   int iterations = 0;
   std::vector<double> sqrt_w(beams.size());
+  std::vector<BeamDisparityT<Dim>> ds;
   for (int pass = 0; pass < passes; ++pass) {
     const typename Traits::Pose at = Parameterization<Dim>::pose(x);
-    const typename Traits::Rotation r = Traits::rotation(at);
-    const typename Traits::Vector t = Traits::translation(at);
+    model.disparities(Traits::rotation(at), Traits::translation(at), scan, &beams, &ds, false);
     for (std::size_t k = 0; k < beams.size(); ++k) {
-      const double s2 = model.disparity_value(r, t, scan.points[beams[k]], nullptr).squaredNorm();
-      sqrt_w[k] = std::sqrt(robust_weight(RobustLoss::kCauchy, scale, s2));
+      sqrt_w[k] = std::sqrt(robust_weight(RobustLoss::kCauchy, scale, ds[k].d.squaredNorm()));
     }
     iterations +=
         run_solver(model, scan, beams, sqrt_w, RobustLoss::kNone, 1.0, setup, x).iterations;
@@ -371,8 +370,6 @@ template <int Dim>
 typename VdtOptimizerT<Dim>::Result VdtOptimizerT<Dim>::solve(const Observations& scan,
                                                               const Pose& guess) const {
   using P = Parameterization<Dim>;
-  using Vector = typename Traits::Vector;
-  using Rotation = typename Traits::Rotation;
   Result result;
   result.pose = guess;
   result.dropped = static_cast<int>(scan.dropped_not_finite + scan.dropped_out_of_range);
@@ -406,16 +403,15 @@ typename VdtOptimizerT<Dim>::Result VdtOptimizerT<Dim>::solve(const Observations
     // along the Z-order curve), plenty to find the basin at their resolution.
     const std::size_t stride =
         Dim == 2 ? 1 : std::max<std::size_t>(1, order.size() / kCoarsePoints3d);
+    std::vector<int> subset;
+    for (std::size_t k = 0; k < order.size(); k += stride) subset.push_back(order[k]);
+    std::vector<BeamDisparityT<Dim>> ds;
     for (const SensorModel& coarse : coarse_models_) {
       std::vector<int> beams;
       const Pose at = P::pose(x);
-      const Rotation ra = Traits::rotation(at);
-      const Vector ta = Traits::translation(at);
-      for (std::size_t k = 0; k < order.size(); k += stride) {
-        const int i = order[k];
-        bool in = false;
-        (void)coarse.disparity_value(ra, ta, scan.points[i], &in);
-        if (in) beams.push_back(i);
+      coarse.disparities(Traits::rotation(at), Traits::translation(at), scan, &subset, &ds, false);
+      for (std::size_t k = 0; k < subset.size(); ++k) {
+        if (ds[k].inlier) beams.push_back(subset[k]);
       }
       if (beams.size() < static_cast<std::size_t>(options_.min_inliers)) continue;
       result.iterations += solve_cauchy_irls(coarse, scan, beams, coarse.options().gate / 4,
@@ -431,14 +427,14 @@ typename VdtOptimizerT<Dim>::Result VdtOptimizerT<Dim>::solve(const Observations
   } else {
     std::vector<double> norms;
     std::vector<int> wide;
-    const Rotation r = Traits::rotation(guess);
-    const Vector t = Traits::translation(guess);
-    for (const int i : order) {
-      bool inside = false;
-      const double n = model_.disparity_value(r, t, scan.points[i], nullptr, &inside).norm();
-      if (!inside) continue;
+    std::vector<BeamDisparityT<Dim>> ds;
+    model_.disparities(Traits::rotation(guess), Traits::translation(guess), scan, &order, &ds,
+                       false);
+    for (std::size_t k = 0; k < order.size(); ++k) {
+      if (!ds[k].inside) continue;
+      const double n = ds[k].d.norm();
       norms.push_back(n);
-      if (n < std::max(1.0, 2.0 * alpha)) wide.push_back(i);
+      if (n < std::max(1.0, 2.0 * alpha)) wide.push_back(order[k]);
     }
     if (norms.size() >= static_cast<std::size_t>(options_.min_inliers)) {
       std::nth_element(norms.begin(), norms.begin() + norms.size() / 2, norms.end());
@@ -448,16 +444,16 @@ typename VdtOptimizerT<Dim>::Result VdtOptimizerT<Dim>::solve(const Observations
 
   std::vector<char> inlier(scan.size(), 0);
   bool converged = false;
+  std::vector<BeamDisparityT<Dim>> gated;
   for (int round = 0; round < options_.gate_rounds; ++round) {
     // Gate (3.3) at the current estimate.
     const Pose at = P::pose(x);
-    const Rotation r = Traits::rotation(at);
-    const Vector t = Traits::translation(at);
+    model_.disparities(Traits::rotation(at), Traits::translation(at), scan, &order, &gated, false);
     std::vector<int> beams;
     int changed = 0;
-    for (const int i : order) {
-      bool in = false;
-      (void)model_.disparity_value(r, t, scan.points[i], &in);
+    for (std::size_t k = 0; k < order.size(); ++k) {
+      const int i = order[k];
+      const bool in = gated[k].inlier;
       changed += (in != (inlier[i] != 0)) ? 1 : 0;
       inlier[i] = in ? 1 : 0;
       if (in) beams.push_back(i);

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <vector>
 
 #include "vdtnav/core/error.hpp"
 
@@ -50,38 +51,74 @@ bool VdtSensorModelT<Dim>::passes_gate(const Vector& d) const noexcept {
 }
 
 template <int Dim>
+typename VdtSensorModelT<Dim>::Disparity VdtSensorModelT<Dim>::from_sample(
+    const VdtSample<Dim>& sample, const Rotation& r, const Vector& p, const Vector& u) const {
+  Disparity b;
+  b.d = sample.value;
+  b.inside = sample.inside;
+  b.inlier = b.inside && passes_gate(b.d);
+  b.d_pose = Traits::pose_jacobian(sample.jacobian, r * p);  // J dq/dX
+  b.d_point.noalias() = sample.jacobian * r;
+  b.d_range.noalias() = b.d_point * u;  // J R u
+  return b;
+}
+
+template <int Dim>
+void VdtSensorModelT<Dim>::disparities(const Rotation& r, const Vector& t,
+                                       const Observations& observations,
+                                       const std::vector<int>* beams, std::vector<Disparity>* out,
+                                       bool derivatives) const {
+  const std::size_t n = beams != nullptr ? beams->size() : observations.size();
+  const auto reading = [&](std::size_t k) {
+    return beams != nullptr ? static_cast<std::size_t>((*beams)[k]) : k;
+  };
+  // Scratch of this thread: the estimators call this once per pass over a scan.
+  thread_local std::vector<Vector> endpoints;
+  thread_local std::vector<VdtSample<Dim>> samples;
+  endpoints.resize(n);
+  samples.resize(n);
+  for (std::size_t k = 0; k < n; ++k) endpoints[k] = r * observations.points[reading(k)] + t;
+  if (options_.residual == ResidualMode::kNearestPoint) {
+    for (std::size_t k = 0; k < n; ++k) samples[k] = map_->nearest_point_query(endpoints[k]);
+  } else {
+    map_->evaluate(endpoints.data(), n, samples.data(), derivatives);
+  }
+  out->resize(n);
+  if (!derivatives) {
+    for (std::size_t k = 0; k < n; ++k) {
+      Disparity& b = (*out)[k];
+      b.d = samples[k].value;
+      b.inside = samples[k].inside;
+      b.inlier = b.inside && passes_gate(b.d);
+    }
+    return;
+  }
+  for (std::size_t k = 0; k < n; ++k) {
+    const std::size_t i = reading(k);
+    (*out)[k] = from_sample(samples[k], r, observations.points[i], observations.directions[i]);
+  }
+}
+
+template <int Dim>
 typename VdtSensorModelT<Dim>::Disparity VdtSensorModelT<Dim>::disparity(
     const Rotation& r, const Vector& t, const Vector& p, const Vector& u,
     Curvature* curvature) const {
-  Disparity b;
   const Vector rp = r * p;  // R p
-  const Vector ru = r * u;  // R u = dq/dr
   const Vector q = rp + t;
-
-  Matrix jac;
+  VdtSample<Dim> smp;
   std::array<Matrix, Dim> hess;
   for (Matrix& h : hess) h.setZero();
   if (options_.residual == ResidualMode::kNearestPoint) {
-    const auto smp = map_->nearest_point_query(q);
-    b.d = smp.value;
-    jac = smp.jacobian;  // identity, Hessians zero
-    b.inside = smp.inside;
+    smp = map_->nearest_point_query(q);  // Jacobian identity, Hessians zero
   } else if (curvature != nullptr) {
-    const auto smp = map_->evaluate_with_hessian(q);
-    b.d = smp.value;
-    jac = smp.jacobian;
-    hess = smp.hessian;
-    b.inside = smp.inside;
+    const auto with_hessian = map_->evaluate_with_hessian(q);
+    smp = with_hessian;
+    hess = with_hessian.hessian;
   } else {
-    const auto smp = map_->evaluate(q);
-    b.d = smp.value;
-    jac = smp.jacobian;
-    b.inside = smp.inside;
+    smp = map_->evaluate(q);
   }
-  b.inlier = b.inside && passes_gate(b.d);
-  b.d_pose = Traits::pose_jacobian(jac, rp);  // J dq/dX
-  b.d_point.noalias() = jac * r;
-  b.d_range = jac * ru;
+  const Disparity b = from_sample(smp, r, p, u);
+  const Matrix& jac = smp.jacobian;
 
   if (curvature != nullptr) {
     // |d|^2 / 2 with d = DT_v(q(X, r)):

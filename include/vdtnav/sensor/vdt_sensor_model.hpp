@@ -133,6 +133,14 @@ class VdtSensorModelT {
   [[nodiscard]] Disparity disparity(const Rotation& r, const Vector& t, const Vector& p,
                                     const Vector& u, Curvature* curvature = nullptr) const;
 
+  /// \brief disparity() without curvature for many readings of one set at one pose, through the
+  /// map's batch lookup (SIMD kernels): out[k] for reading (*beams)[k], or for reading k when
+  /// beams is null. What the estimators' passes over a scan call. Without `derivatives` only d,
+  /// inside and inlier are filled (the value-only lookup: gates, weights, scores).
+  void disparities(const Rotation& r, const Vector& t, const Observations& observations,
+                   const std::vector<int>* beams, std::vector<Disparity>* out,
+                   bool derivatives = true) const;
+
   /// \brief Disparity only (no derivatives: the cheaper lookup), whether the reading is an
   /// inlier and whether it is inside the map, for residual-only evaluations and gating.
   [[nodiscard]] Vector disparity_value(const Rotation& r, const Vector& t, const Vector& p,
@@ -175,6 +183,9 @@ class VdtSensorModelT {
 
  private:
   [[nodiscard]] bool passes_gate(const Vector& d) const noexcept;
+  /// The disparity of the reading (p, u) from the map's sample at its endpoint R p + t.
+  [[nodiscard]] Disparity from_sample(const VdtSample<Dim>& sample, const Rotation& r,
+                                      const Vector& p, const Vector& u) const;
 
   const Map* map_;
   VdtSensorModelOptions options_;
