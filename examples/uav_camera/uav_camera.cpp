@@ -6,6 +6,7 @@
 // on the same observations: vdt-opt, vdt-ekf and the UDT chamfer baseline udt-opt.
 //
 //   vdtnav_uav_camera [--out DIR] [--seed N] [--frames N] [--altitude M] [--texture FILE]
+//                     [--solver default|dense|ceres] [--verbose]
 //
 // Writes DIR/table.csv (method,frames,localized_pct,pos_rmse_m,yaw_rmse_rad,anees,anees_lo,
 // anees_hi,recovery_s,ms_per_frame), table.md, trajectory.png (Fig. 3.13), errors_vdt_opt.png and
@@ -109,6 +110,10 @@ int main(int argc, char** argv) {
   app.add_option("--texture", texture_path,
                  "a photograph laid on the ground instead of the runway (its edges are the map)")
       ->check(CLI::ExistingFile);
+  std::string solver = "default";
+  app.add_option("--solver", solver, "vdt-opt's scan solver: default, dense or ceres")
+      ->check(CLI::IsMember({"default", "dense", "ceres"}))
+      ->capture_default_str();
   app.add_flag("--verbose", verbose, "one line per frame: points, explained fraction, status");
   CLI11_PARSE(app, argc, argv);
 
@@ -220,6 +225,8 @@ int main(int argc, char** argv) {
     oo.loss_scale = search.explained_distance;
     oo.search = search;
     oo.bridge.enabled = false;
+    if (solver != "default")
+      oo.solver = solver == "dense" ? ScanSolver::kDense : ScanSolver::kCeres;
     VdtEkfOptions eo;
     eo.sensor.gate = 10.0 * res;
     eo.min_inliers = min_explained;

@@ -9,8 +9,9 @@ namespace vdtnav {
 double explained_fraction(const VdtSensorModel& model, const ScanPoints& scan, const Pose2& pose,
                           double distance) {
   if (scan.size() == 0) return 0.0;
-  std::vector<BeamDisparity> ds;
-  model.disparities(PoseTraits<2>::rotation(pose), pose.head<2>(), scan, nullptr, &ds, false);
+  thread_local std::vector<BeamDisparity> ds;  // scratch: no allocation per call
+  model.disparities(PoseTraits<2>::rotation(pose), pose.head<2>(), scan, nullptr, &ds,
+                    DisparityParts::kValue);
   const double d2 = distance * distance;
   std::size_t n = 0;
   for (const BeamDisparity& b : ds) n += b.inlier && b.d.squaredNorm() < d2;
@@ -23,7 +24,8 @@ namespace {
 double truncated_vcd_of(const VdtSensorModel& model, const ScanPoints& scan, const Pose2& pose,
                         double tau, const std::vector<int>* beams) {
   thread_local std::vector<BeamDisparity> ds;
-  model.disparities(PoseTraits<2>::rotation(pose), pose.head<2>(), scan, beams, &ds, false);
+  model.disparities(PoseTraits<2>::rotation(pose), pose.head<2>(), scan, beams, &ds,
+                    DisparityParts::kValue);
   const double t2 = tau * tau;
   double sum = 0.0;
   for (const BeamDisparity& b : ds) sum += b.inlier ? std::min(b.d.squaredNorm(), t2) : t2;

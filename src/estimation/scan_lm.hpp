@@ -98,9 +98,10 @@ ScanLmSummary solve_scan_lm(const VdtSensorModelT<Dim>& model, const Observation
   // Cost and normal equations at X in one batch lookup of the readings (the SIMD kernels: the
   // Jacobian costs little more than the value there, so a trial point gets both, kept when the
   // step is accepted).
-  std::vector<BeamDisparityT<Dim>> disparities;
+  thread_local std::vector<BeamDisparityT<Dim>> disparities;  // scratch: no allocation per solve
   const auto evaluate = [&](const Pose& x, Normal* h, Tangent* g) {
-    model.disparities(Traits::rotation(x), Traits::translation(x), scan, &beams, &disparities);
+    model.disparities(Traits::rotation(x), Traits::translation(x), scan, &beams, &disparities,
+                      DisparityParts::kPose);
     double cost = 0.0;
     h->setZero();
     g->setZero();

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <unordered_map>
 #include <utility>
+#include <vector>
 
 #include <Eigen/Cholesky>
 #include <Eigen/LU>
@@ -102,6 +103,7 @@ LocalizationResult VdtEkfLocalizer::update(const OdometryStep& odometry, const S
   const Eigen::Matrix3d prior_info = p_.inverse();
   Eigen::Matrix3d info = prior_info;
   Eigen::Matrix<double, 3, Eigen::Dynamic, 0, 3, ScanPoints::kMaxShared> cross(3, k);
+  thread_local std::vector<BeamDisparity> disparities;  // scratch: no allocation per update
   for (int it = 0; it < std::max(1, options_.max_iterations); ++it) {
     // Gauss-Newton step on (X - X_pred)^T P^-1 (X - X_pred) + sum d^T R^-1 d from the iterate
     // X_i; at X_i = X_pred this is the information-form update (3.13)-(3.21).
@@ -109,8 +111,9 @@ LocalizationResult VdtEkfLocalizer::update(const OdometryStep& odometry, const S
     Eigen::Vector3d b = -prior_info * pose_error(xi, x_);
     cross.setZero();
     int used = 0;
+    model_.disparities(PoseTraits<2>::rotation(xi), xi.head<2>(), pts, nullptr, &disparities);
     for (std::size_t i = 0; i < pts.size(); ++i) {
-      const BeamDisparity bd = model_.disparity(xi, pts.points[i], pts.directions[i]);
+      const BeamDisparity& bd = disparities[i];
       if (!bd.inlier) continue;
       ++used;
       const Eigen::Matrix2d r_inv =
@@ -156,8 +159,9 @@ LocalizationResult VdtEkfLocalizer::update(const OdometryStep& odometry, const S
       // S_k = info^-1 sum_{i in k} H_i^T R_i^-1 d_point_i and P+ gains S_k sigma_c^2 S_k^T.
       const Eigen::Rotation2Dd rot(xi[2]);
       std::unordered_map<std::int64_t, Eigen::Matrix<double, 3, 2>> groups;
+      model_.disparities(PoseTraits<2>::rotation(xi), xi.head<2>(), pts, nullptr, &disparities);
       for (std::size_t i = 0; i < pts.size(); ++i) {
-        const BeamDisparity bd = model_.disparity(xi, pts.points[i], pts.directions[i]);
+        const BeamDisparity& bd = disparities[i];
         if (!bd.inlier) continue;
         const Eigen::Matrix2d r_inv =
             (point_cov ? model_.disparity_covariance_point(bd, pts.point_covariances[i])

@@ -156,19 +156,21 @@ class ScanCost final : public ceres::CostFunction {
     const typename Traits::Rotation r = Traits::rotation(pose);
     const Vector t = Traits::translation(pose);
     const typename P::Jacobian to_block(x, four_dof_);
+    // One batch lookup of the readings; trial steps (no Jacobian) take the value-only kernel.
+    thread_local std::vector<BeamDisparityT<Dim>> ds;  // scratch: no allocation per evaluation
+    model_.disparities(r, t, scan_, &beams_, &ds,
+                       jacobian != nullptr ? DisparityParts::kPose : DisparityParts::kValue);
     for (std::size_t k = 0; k < beams_.size(); ++k) {
-      const int i = beams_[k];
       const double w = sqrt_w_.empty() ? 1.0 : sqrt_w_[k];
       const int e = stride();
       double* res = residuals + static_cast<std::ptrdiff_t>(e) * k;
-      if (jacobian == nullptr) {  // trial steps: the value-only lookup is about half the work
-        const Vector d = model_.disparity_value(r, t, scan_.points[i], nullptr);
-        const auto [scale, rest] = robust(d.squaredNorm());
-        for (int c = 0; c < Dim; ++c) res[c] = w * scale * d[c];
+      const BeamDisparityT<Dim>& b = ds[k];
+      if (jacobian == nullptr) {
+        const auto [scale, rest] = robust(b.d.squaredNorm());
+        for (int c = 0; c < Dim; ++c) res[c] = w * scale * b.d[c];
         if (e > Dim) res[Dim] = w * rest;
         continue;
       }
-      const BeamDisparityT<Dim> b = model_.disparity(r, t, scan_.points[i], scan_.directions[i]);
       const auto [scale, rest] = robust(b.d.squaredNorm());
       for (int c = 0; c < Dim; ++c) res[c] = w * scale * b.d[c];
       double* jac = jacobian + static_cast<std::ptrdiff_t>(e) * P::kAmbient * k;
@@ -278,10 +280,11 @@ int solve_cauchy_irls(const VdtSensorModelT<Dim>& model, const ObservationSet<Di
   using Traits = PoseTraits<Dim>;
   int iterations = 0;
   std::vector<double> sqrt_w(beams.size());
-  std::vector<BeamDisparityT<Dim>> ds;
+  thread_local std::vector<BeamDisparityT<Dim>> ds;  // scratch: no allocation per scan
   for (int pass = 0; pass < passes; ++pass) {
     const typename Traits::Pose at = Parameterization<Dim>::pose(x);
-    model.disparities(Traits::rotation(at), Traits::translation(at), scan, &beams, &ds, false);
+    model.disparities(Traits::rotation(at), Traits::translation(at), scan, &beams, &ds,
+                      DisparityParts::kValue);
     for (std::size_t k = 0; k < beams.size(); ++k) {
       sqrt_w[k] = std::sqrt(robust_weight(RobustLoss::kCauchy, scale, ds[k].d.squaredNorm()));
     }
@@ -405,11 +408,12 @@ typename VdtOptimizerT<Dim>::Result VdtOptimizerT<Dim>::solve(const Observations
         Dim == 2 ? 1 : std::max<std::size_t>(1, order.size() / kCoarsePoints3d);
     std::vector<int> subset;
     for (std::size_t k = 0; k < order.size(); k += stride) subset.push_back(order[k]);
-    std::vector<BeamDisparityT<Dim>> ds;
+    thread_local std::vector<BeamDisparityT<Dim>> ds;  // scratch: no allocation per scan
     for (const SensorModel& coarse : coarse_models_) {
       std::vector<int> beams;
       const Pose at = P::pose(x);
-      coarse.disparities(Traits::rotation(at), Traits::translation(at), scan, &subset, &ds, false);
+      coarse.disparities(Traits::rotation(at), Traits::translation(at), scan, &subset, &ds,
+                         DisparityParts::kValue);
       for (std::size_t k = 0; k < subset.size(); ++k) {
         if (ds[k].inlier) beams.push_back(subset[k]);
       }
@@ -427,9 +431,9 @@ typename VdtOptimizerT<Dim>::Result VdtOptimizerT<Dim>::solve(const Observations
   } else {
     std::vector<double> norms;
     std::vector<int> wide;
-    std::vector<BeamDisparityT<Dim>> ds;
+    thread_local std::vector<BeamDisparityT<Dim>> ds;  // scratch: no allocation per scan
     model_.disparities(Traits::rotation(guess), Traits::translation(guess), scan, &order, &ds,
-                       false);
+                       DisparityParts::kValue);
     for (std::size_t k = 0; k < order.size(); ++k) {
       if (!ds[k].inside) continue;
       const double n = ds[k].d.norm();
@@ -444,11 +448,12 @@ typename VdtOptimizerT<Dim>::Result VdtOptimizerT<Dim>::solve(const Observations
 
   std::vector<char> inlier(scan.size(), 0);
   bool converged = false;
-  std::vector<BeamDisparityT<Dim>> gated;
+  thread_local std::vector<BeamDisparityT<Dim>> gated;  // scratch: no allocation per scan
   for (int round = 0; round < options_.gate_rounds; ++round) {
     // Gate (3.3) at the current estimate.
     const Pose at = P::pose(x);
-    model_.disparities(Traits::rotation(at), Traits::translation(at), scan, &order, &gated, false);
+    model_.disparities(Traits::rotation(at), Traits::translation(at), scan, &order, &gated,
+                       DisparityParts::kValue);
     std::vector<int> beams;
     int changed = 0;
     for (std::size_t k = 0; k < order.size(); ++k) {

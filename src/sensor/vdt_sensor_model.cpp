@@ -67,7 +67,7 @@ template <int Dim>
 void VdtSensorModelT<Dim>::disparities(const Rotation& r, const Vector& t,
                                        const Observations& observations,
                                        const std::vector<int>* beams, std::vector<Disparity>* out,
-                                       bool derivatives) const {
+                                       DisparityParts parts) const {
   const std::size_t n = beams != nullptr ? beams->size() : observations.size();
   const auto reading = [&](std::size_t k) {
     return beams != nullptr ? static_cast<std::size_t>((*beams)[k]) : k;
@@ -81,21 +81,24 @@ void VdtSensorModelT<Dim>::disparities(const Rotation& r, const Vector& t,
   if (options_.residual == ResidualMode::kNearestPoint) {
     for (std::size_t k = 0; k < n; ++k) samples[k] = map_->nearest_point_query(endpoints[k]);
   } else {
-    map_->evaluate(endpoints.data(), n, samples.data(), derivatives);
+    map_->evaluate(endpoints.data(), n, samples.data(), parts != DisparityParts::kValue);
   }
   out->resize(n);
-  if (!derivatives) {
+  if (parts == DisparityParts::kAll) {
     for (std::size_t k = 0; k < n; ++k) {
-      Disparity& b = (*out)[k];
-      b.d = samples[k].value;
-      b.inside = samples[k].inside;
-      b.inlier = b.inside && passes_gate(b.d);
+      const std::size_t i = reading(k);
+      (*out)[k] = from_sample(samples[k], r, observations.points[i], observations.directions[i]);
     }
     return;
   }
   for (std::size_t k = 0; k < n; ++k) {
-    const std::size_t i = reading(k);
-    (*out)[k] = from_sample(samples[k], r, observations.points[i], observations.directions[i]);
+    Disparity& b = (*out)[k];
+    b.d = samples[k].value;
+    b.inside = samples[k].inside;
+    b.inlier = b.inside && passes_gate(b.d);
+    if (parts == DisparityParts::kPose) {
+      b.d_pose = Traits::pose_jacobian(samples[k].jacobian, r * observations.points[reading(k)]);
+    }
   }
 }
 

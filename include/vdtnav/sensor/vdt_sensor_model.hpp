@@ -49,6 +49,13 @@ enum class DisparityCovariance {
   kDiagonal,      ///< the thesis's (2.13): diag(j_c^2) sigma_r^2 (+ sigma_map^2 I)
 };
 
+/// \brief What VdtSensorModelT::disparities() computes besides d, inside and inlier.
+enum class DisparityParts {
+  kValue,  ///< nothing more (gates, weights, scores): the value-only lookup
+  kPose,   ///< d_pose (the solvers' normal equations)
+  kAll,    ///< d_pose, d_point and d_range (covariances)
+};
+
 /// \brief Options of the sensor model.
 struct VdtSensorModelOptions {
   GateMode gate_mode = GateMode::kComponents;
@@ -135,11 +142,11 @@ class VdtSensorModelT {
 
   /// \brief disparity() without curvature for many readings of one set at one pose, through the
   /// map's batch lookup (SIMD kernels): out[k] for reading (*beams)[k], or for reading k when
-  /// beams is null. What the estimators' passes over a scan call. Without `derivatives` only d,
-  /// inside and inlier are filled (the value-only lookup: gates, weights, scores).
+  /// beams is null. What the estimators' passes over a scan call; `parts` says which derivatives
+  /// they need (the others are left as they were).
   void disparities(const Rotation& r, const Vector& t, const Observations& observations,
                    const std::vector<int>* beams, std::vector<Disparity>* out,
-                   bool derivatives = true) const;
+                   DisparityParts parts = DisparityParts::kAll) const;
 
   /// \brief Disparity only (no derivatives: the cheaper lookup), whether the reading is an
   /// inlier and whether it is inside the map, for residual-only evaluations and gating.
