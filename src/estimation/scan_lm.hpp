@@ -111,9 +111,14 @@ ScanLmSummary solve_scan_lm(const VdtSensorModelT<Dim>& model, const Observation
       const RobustValue rv = robust_value(loss, loss_scale, s2);
       cost += w * rv.rho;
       const double wr = w * rv.rho1;
-      h->noalias() += wr * b.d_pose.transpose() * b.d_pose;
-      g->noalias() += wr * b.d_pose.transpose() * b.d;
+      // The lower triangle of the symmetric J^T J only (mirrored once after the pass).
+      const auto wj = (wr * b.d_pose).eval();
+      for (int c = 0; c < kDoF; ++c) {
+        for (int r = c; r < kDoF; ++r) (*h)(r, c) += wj.col(r).dot(b.d_pose.col(c));
+      }
+      g->noalias() += wj.transpose() * b.d;
     }
+    *h = h->template selfadjointView<Eigen::Lower>();
     for (int c = 0; c < kDoF; ++c) {
       if (!(settings.held_mask & (1u << c))) continue;
       h->row(c).setZero();

@@ -25,7 +25,9 @@ enum class SimdLevel {
 };
 
 /// \return the instruction set of the batch lookup: the best the CPU has, chosen at run time
-/// (the library and its headers are compiled for the baseline ISA).
+/// (the library and its headers are compiled for the baseline ISA). The environment variable
+/// VDTNAV_SIMD=baseline selects the portable kernels, whose results repeat bit for bit on every
+/// x86-64 machine (the AVX2 kernels round the float coefficients' sums differently).
 [[nodiscard]] SimdLevel simd_level() noexcept;
 
 /// \brief Chooses the batch lookup's instruction set (tests and benchmarks compare them); a level
