@@ -225,6 +225,9 @@ int main(int argc, char** argv) {
     oo.loss_scale = search.explained_distance;
     oo.search = search;
     oo.bridge.enabled = false;
+    // Frames with one marking line in view constrain nothing along it: the prediction holds that
+    // direction (a maximum a posteriori solve) instead of the solve sliding along the line.
+    oo.odometry_prior = true;
     if (solver != "default")
       oo.solver = solver == "dense" ? ScanSolver::kDense : ScanSolver::kCeres;
     VdtEkfOptions eo;

@@ -118,10 +118,12 @@ template <typename V>
 void visit(V& v, VdtOptimizerOptions& o) {
   v.section("sensor", "the VDT sensor model", [&](V& s) { visit(s, o.sensor); });
   v.choice("solver", o.solver, kScanSolvers,
-           "ceres = Ceres Solver, dense = its Levenberg-Marquardt on the fixed-size normal "
-           "equations (faster)");
+           "dense = Levenberg-Marquardt on the fixed-size normal equations (Ceres's steps, "
+           "faster), ceres = Ceres Solver");
   v.choice("trust_region", o.trust_region, kTrustRegions,
            "Ceres trust-region strategy (solver: ceres; dense is Levenberg-Marquardt)");
+  v.flag("odometry_prior", o.odometry_prior,
+         "vdt-opt: the prediction as a prior of every solve (maximum a posteriori)");
   v.choice("loss", o.loss, kLosses, "robust loss on each reading's squared disparity");
   v.number("loss_scale", o.loss_scale, "m", "where the robust loss departs from quadratic");
   v.choice("covariance_method", o.covariance, kCovarianceMethods,

@@ -7,9 +7,10 @@
 /// program evaluation, Jacobian copies), which dominates for a few unknowns.
 ///
 /// Cost (the one Ceres minimises with the ScanCost block, halved as Ceres reports it):
-///   F(X) = 1/2 sum_i w_i^2 rho(|d_i|^2)                    (rho(s) = s without a robust loss)
+///   F(X) = 1/2 sum_i w_i^2 rho(|d_i|^2) [+ 1/2 e^T I e]     (rho(s) = s without a robust loss)
 /// Gradient and Gauss-Newton matrix, in the pose perturbation of PoseTraits<Dim>:
-///   g = sum_i w_i^2 rho'_i J_i^T d_i,   H = sum_i w_i^2 rho'_i J_i^T J_i   (the IRLS weighting)
+///   g = sum_i w_i^2 rho'_i J_i^T d_i [+ I e],   H = sum_i w_i^2 rho'_i J_i^T J_i [+ I]
+/// (the IRLS weighting; in brackets an optional prior, e = X (-) mean, see ScanLmPrior).
 /// Step: (H + lambda D) delta = -g, D = diag(H) clamped to [1e-6, 1e32] (Ceres's LM), factored by
 /// Cholesky and accepted when the cost falls by at least 1e-3 of the model's predicted decrease;
 /// lambda = 1 / radius with Ceres's (Nielsen's) radius update. Stops as
@@ -73,6 +74,14 @@ struct ScanLmSettings {
   unsigned held_mask = 0;
 };
 
+/// A prior term 1/2 e^T I e, e = X (-) mean, in F (Jacobian of e taken as the identity: exact in
+/// 2D, first order at the mean in 3D).
+template <int Dim>
+struct ScanLmPrior {
+  typename PoseTraits<Dim>::Pose mean;
+  typename PoseTraits<Dim>::Covariance information;
+};
+
 /// What a solve did (the fields of ceres::Solver::Summary the optimizer reads; the optimizer
 /// reports a Ceres solve in the same form).
 struct ScanLmSummary {
@@ -88,7 +97,8 @@ template <int Dim>
 ScanLmSummary solve_scan_lm(const VdtSensorModelT<Dim>& model, const ObservationSet<Dim>& scan,
                             const std::vector<int>& beams, const std::vector<double>& sqrt_w,
                             RobustLoss loss, double loss_scale, const ScanLmSettings& settings,
-                            typename PoseTraits<Dim>::Pose* pose) {
+                            typename PoseTraits<Dim>::Pose* pose,
+                            const ScanLmPrior<Dim>* prior = nullptr) {
   using Traits = PoseTraits<Dim>;
   using Pose = typename Traits::Pose;
   using Tangent = typename Traits::Tangent;
@@ -119,6 +129,12 @@ ScanLmSummary solve_scan_lm(const VdtSensorModelT<Dim>& model, const Observation
       g->noalias() += wj.transpose() * b.d;
     }
     *h = h->template selfadjointView<Eigen::Lower>();
+    if (prior != nullptr) {
+      const Tangent e = Traits::minus(x, prior->mean);
+      cost += e.dot(prior->information * e);  // halved with the rest below
+      h->noalias() += prior->information;
+      g->noalias() += prior->information * e;
+    }
     for (int c = 0; c < kDoF; ++c) {
       if (!(settings.held_mask & (1u << c))) continue;
       h->row(c).setZero();

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <optional>
 #include <unordered_map>
 #include <utility>
 
@@ -237,12 +238,36 @@ void set_manifold(ceres::Problem& problem, double* x, bool four_dof) {
   if (m != nullptr) problem.SetManifold(x, m);
 }
 
-/// One solve of the readings in `beams` from x (updated in place), weighted by sqrt_w (empty: 1).
+/// The prior term of a 2D solve as a Ceres residual block: r = U e, U^T U the prior's
+/// information, e = X (-) mean (angle wrapped), so that 1/2 |r|^2 = 1/2 e^T I e.
+class PriorCost2 final : public ceres::SizedCostFunction<3, 3> {
+ public:
+  explicit PriorCost2(const PosePrior<2>& prior)
+      : mean_(prior.mean), sqrt_information_(prior.information.llt().matrixU()) {}
+  bool Evaluate(double const* const* params, double* residuals, double** jacobians) const override {
+    const Eigen::Vector3d e = pose_error(Pose2(params[0][0], params[0][1], params[0][2]), mean_);
+    Eigen::Map<Eigen::Vector3d> r(residuals);
+    r = sqrt_information_ * e;
+    if (jacobians != nullptr && jacobians[0] != nullptr) {
+      Eigen::Map<Eigen::Matrix<double, 3, 3, Eigen::RowMajor>> j(jacobians[0]);
+      j = sqrt_information_;  // de/dX = I (additive 2D perturbation; the wrap is piecewise
+                              // constant)
+    }
+    return true;
+  }
+
+ private:
+  Pose2 mean_;
+  Eigen::Matrix3d sqrt_information_;
+};
+
+/// One solve of the readings in `beams` from x (updated in place), weighted by sqrt_w (empty: 1),
+/// with the prior term when `prior` is given (2D).
 template <int Dim>
 detail::ScanLmSummary run_solver(const VdtSensorModelT<Dim>& model, const ObservationSet<Dim>& scan,
                                  const std::vector<int>& beams, const std::vector<double>& sqrt_w,
                                  RobustLoss loss, double loss_scale, const SolveSetup& setup,
-                                 double* x) {
+                                 const PosePrior<Dim>* prior, double* x) {
   if (setup.solver == ScanSolver::kDense) {
     detail::ScanLmSettings ls;
     ls.max_iterations = setup.max_iterations;
@@ -250,14 +275,19 @@ detail::ScanLmSummary run_solver(const VdtSensorModelT<Dim>& model, const Observ
     ls.parameter_tolerance = setup.parameter_tolerance;
     ls.held_mask = (Dim == 3 && setup.four_dof) ? (1u << 3 | 1u << 4) : 0u;  // see is_free()
     typename PoseTraits<Dim>::Pose pose = Parameterization<Dim>::pose(x);
-    const detail::ScanLmSummary out =
-        detail::solve_scan_lm<Dim>(model, scan, beams, sqrt_w, loss, loss_scale, ls, &pose);
+    detail::ScanLmPrior<Dim> lm_prior;
+    if (prior != nullptr) lm_prior = {prior->mean, prior->information};
+    const detail::ScanLmSummary out = detail::solve_scan_lm<Dim>(
+        model, scan, beams, sqrt_w, loss, loss_scale, ls, &pose, prior ? &lm_prior : nullptr);
     Parameterization<Dim>::set(pose, x);
     return out;
   }
   ceres::Problem problem(problem_options());
   problem.AddResidualBlock(
       new ScanCost<Dim>(model, scan, beams, setup.four_dof, sqrt_w, loss, loss_scale), nullptr, x);
+  if constexpr (Dim == 2) {
+    if (prior != nullptr) problem.AddResidualBlock(new PriorCost2(*prior), nullptr, x);
+  }
   set_manifold<Dim>(problem, x, setup.four_dof);
   const ceres::Solver::Options so = solver_options(setup);
   ceres::Solver::Summary summary;
@@ -276,7 +306,7 @@ detail::ScanLmSummary run_solver(const VdtSensorModelT<Dim>& model, const Observ
 template <int Dim>
 int solve_cauchy_irls(const VdtSensorModelT<Dim>& model, const ObservationSet<Dim>& scan,
                       const std::vector<int>& beams, double scale, const SolveSetup& setup,
-                      int passes, double* x) {
+                      int passes, const PosePrior<Dim>* prior, double* x) {
   using Traits = PoseTraits<Dim>;
   int iterations = 0;
   std::vector<double> sqrt_w(beams.size());
@@ -289,7 +319,7 @@ int solve_cauchy_irls(const VdtSensorModelT<Dim>& model, const ObservationSet<Di
       sqrt_w[k] = std::sqrt(robust_weight(RobustLoss::kCauchy, scale, ds[k].d.squaredNorm()));
     }
     iterations +=
-        run_solver(model, scan, beams, sqrt_w, RobustLoss::kNone, 1.0, setup, x).iterations;
+        run_solver(model, scan, beams, sqrt_w, RobustLoss::kNone, 1.0, setup, prior, x).iterations;
   }
   return iterations;
 }
@@ -372,6 +402,38 @@ bool VdtOptimizerT<Dim>::is_free(int k) const noexcept {
 template <int Dim>
 typename VdtOptimizerT<Dim>::Result VdtOptimizerT<Dim>::solve(const Observations& scan,
                                                               const Pose& guess) const {
+  return solve_with(scan, guess, nullptr, 0.0);
+}
+
+template <int Dim>
+typename VdtOptimizerT<Dim>::Result VdtOptimizerT<Dim>::solve(const Observations& scan,
+                                                              const Pose& guess,
+                                                              const PosePrior<Dim>& prior) const {
+  VDTNAV_CHECK(Dim == 2, "optimizer: a pose prior is supported in 2D only");
+  VDTNAV_CHECK(prior.information.allFinite(), "optimizer: the prior's information is not finite");
+  // The solvers minimise the plain VCD, 1/2 sum |d_i|^2 (2.17), not 1/2 sum d_i^T R_i^-1 d_i: the
+  // prior joins it in the same units, times s^2, the a priori variance of one disparity component
+  // (the map floor plus the readings' own noise spread over the Dim components):
+  //   G = 1/2 sum |d_i|^2 + s^2 / 2 e^T I e,   i.e.  s^2 (1/2 sum |d_i|^2 / s^2 + 1/2 e^T I e).
+  double noise = 0.0;
+  if (!scan.point_covariances.empty()) {
+    for (const auto& c : scan.point_covariances) noise += c.trace() / Dim;
+    noise /= static_cast<double>(scan.point_covariances.size());
+  } else {
+    noise = scan.sigma_range * scan.sigma_range / Dim;
+  }
+  const double s2 = model_.map_sigma() * model_.map_sigma() + noise;
+  VDTNAV_CHECK(s2 > 0.0, "optimizer: a prior needs a disparity variance > 0 (map floor or noise)");
+  PosePrior<Dim> scaled = prior;
+  scaled.information *= s2;
+  return solve_with(scan, guess, &scaled, s2);
+}
+
+template <int Dim>
+typename VdtOptimizerT<Dim>::Result VdtOptimizerT<Dim>::solve_with(const Observations& scan,
+                                                                   const Pose& guess,
+                                                                   const PosePrior<Dim>* prior,
+                                                                   double prior_s2) const {
   using P = Parameterization<Dim>;
   Result result;
   result.pose = guess;
@@ -419,10 +481,10 @@ typename VdtOptimizerT<Dim>::Result VdtOptimizerT<Dim>::solve(const Observations
       }
       if (beams.size() < static_cast<std::size_t>(options_.min_inliers)) continue;
       result.iterations += solve_cauchy_irls(coarse, scan, beams, coarse.options().gate / 4,
-                                             coarse_setup, kIrlsPasses, x);
+                                             coarse_setup, kIrlsPasses, prior, x);
     }
     if (kFineIrls) {
-      result.iterations += solve_cauchy_irls(model_, scan, wide, 0.1, setup, kIrlsPasses, x);
+      result.iterations += solve_cauchy_irls(model_, scan, wide, 0.1, setup, kIrlsPasses, prior, x);
     }
     result.work.coarse_to_fine = 1;
   };
@@ -475,7 +537,7 @@ typename VdtOptimizerT<Dim>::Result VdtOptimizerT<Dim>::solve(const Observations
       return result;
     }
     const detail::ScanLmSummary summary =
-        run_solver(model_, scan, beams, {}, options_.loss, options_.loss_scale, setup, x);
+        run_solver(model_, scan, beams, {}, options_.loss, options_.loss_scale, setup, prior, x);
     result.iterations += summary.iterations;
     ++result.work.solves;
     result.final_cost = 2.0 * summary.final_cost;  // solvers report sum/2: d_VCD = sum |d|^2
@@ -490,7 +552,9 @@ typename VdtOptimizerT<Dim>::Result VdtOptimizerT<Dim>::solve(const Observations
   result.status = converged ? LocalizationStatus::kConverged : LocalizationStatus::kNotConverged;
   // The covariance is reported whenever the Hessian at the estimate is positive definite, also
   // when Ceres stopped at its iteration limit (the status says so); otherwise it is not a minimum.
-  result.has_covariance = covariance(scan, result.pose, inlier, order, &result.covariance);
+  result.has_covariance =
+      covariance(scan, result.pose, inlier, order, prior != nullptr ? &prior->information : nullptr,
+                 prior_s2, &result.covariance);
   if (!result.has_covariance) result.status = LocalizationStatus::kNotConverged;
   return result;
 }
@@ -498,12 +562,14 @@ typename VdtOptimizerT<Dim>::Result VdtOptimizerT<Dim>::solve(const Observations
 template <int Dim>
 bool VdtOptimizerT<Dim>::covariance(const Observations& scan, const Pose& pose,
                                     const std::vector<char>& inliers, Covariance* cov) const {
-  return covariance(scan, pose, inliers, lookup_order<Dim>(model_.map(), scan, pose), cov);
+  return covariance(scan, pose, inliers, lookup_order<Dim>(model_.map(), scan, pose), nullptr, 0.0,
+                    cov);
 }
 
 template <int Dim>
 bool VdtOptimizerT<Dim>::covariance(const Observations& scan, const Pose& pose,
                                     const std::vector<char>& inliers, const std::vector<int>& order,
+                                    const Covariance* prior_information, double prior_s2,
                                     Covariance* cov) const {
   using Vector = typename Traits::Vector;
   using Rotation = typename Traits::Rotation;
@@ -564,6 +630,13 @@ bool VdtOptimizerT<Dim>::covariance(const Observations& scan, const Pose& pose,
   }
   if (k_shared > 0) middle.noalias() += shared * scan.shared_covariance * shared.transpose();
   for (const auto& [key, s] : groups) middle.noalias() += c2 * s * s.transpose();
+  if (prior_information != nullptr) {
+    // A maximum a posteriori estimate: the prior's curvature joins H, and the noise of its mean
+    // joins the middle term. In VCD units the prior is s^2 I (see solve()); its mean's covariance
+    // I^-1 enters through the gradient s^2 I e: (s^2 I) I^-1 (s^2 I) = s^2 (s^2 I).
+    h += *prior_information;
+    middle += prior_s2 * *prior_information;
+  }
   // Held components (4-DOF mode): the estimate does not move along them, so they drop out of H
   // and of the noise term; the unit diagonal keeps H invertible and their rows of cov zero.
   int free = 0;
@@ -628,7 +701,18 @@ LocalizationResult VdtOptimizationLocalizer::update(const OdometryStep& odometry
     return x.status == LocalizationStatus::kConverged ||
            x.status == LocalizationStatus::kNotConverged;
   };
-  LocalizationResult r = optimizer_.solve(pts, guess);
+  // The prediction as a prior (options().odometry_prior): its information, when its covariance is
+  // positive definite.
+  std::optional<PosePrior<2>> prior;
+  if (optimizer_.options().odometry_prior) {
+    const Eigen::LLT<Eigen::Matrix3d> llt(uncertainty_);
+    if (llt.info() == Eigen::Success)
+      prior = PosePrior<2>{guess, llt.solve(Eigen::Matrix3d::Identity())};
+  }
+  const auto solve = [&](const Pose2& from) {
+    return prior ? optimizer_.solve(pts, from, *prior) : optimizer_.solve(pts, from);
+  };
+  LocalizationResult r = solve(guess);
   double explained =
       usable(r) ? explained_fraction(optimizer_.sensor_model(), pts, r.pose, so.explained_distance)
                 : 0.0;
@@ -639,7 +723,7 @@ LocalizationResult VdtOptimizationLocalizer::update(const OdometryStep& odometry
     const Pose2 start = search_guess(model, pts, guess, so, &uncertainty_);
     r.work.window_searches = 1;
     if (start != guess) {
-      LocalizationResult r2 = optimizer_.solve(pts, start);
+      LocalizationResult r2 = solve(start);
       const double e2 =
           usable(r2) ? explained_fraction(model, pts, r2.pose, so.explained_distance) : 0.0;
       // The work of both solves, whichever is kept.

@@ -37,9 +37,8 @@ enum class ScanSolver {
   kCeres,  ///< Ceres Solver, one dense residual block, trust region `trust_region` (default)
   /// Levenberg-Marquardt on the fixed-size normal equations, the Jacobians accumulated in one
   /// pass over the readings (scan_lm.hpp): Ceres's LM steps and stopping rules without its
-  /// general machinery, ~1.5x faster per solve for 3 to 6 unknowns. Not the default yet: on
-  /// ill-posed frames (hundreds of iterations along a flat direction) rounding differences
-  /// between the two send the UAV camera study's localizer down different paths (README).
+  /// general machinery, 1.5-2.5x faster per solve for 3 to 6 unknowns, the same optimum and
+  /// covariance (tested).
   kDense,
 };
 /// \brief Ceres trust-region strategy (ScanSolver::kCeres; the dense solver is LM).
@@ -82,6 +81,12 @@ struct VdtOptimizerOptions {
   /// 3D only (ignored in 2D): the 4-DOF mode, x, y, z and yaw estimated, roll and pitch held at
   /// those of the guess (from an IMU), as DLL does.
   bool four_dof = false;
+  /// 2D localizer only: fuse the prediction (the last estimate composed with the odometry step,
+  /// with its propagated covariance) as a prior term of the cost, a maximum a posteriori solve,
+  /// and report the posterior covariance. Directions the scan does not constrain (one straight
+  /// wall, one marking line) then stay at the prediction instead of sliding wherever the
+  /// iterations stop. Off: each scan on its own (maximum likelihood, the thesis's vdt-opt).
+  bool odometry_prior = false;
   /// 2D localizer only: when the solution from the odometry guess explains the scan poorly, also
   /// solve from the best pose of a window search around the guess and keep the better; refuse a
   /// solution that leaves the scan unexplained (the guess is kept, status kRefused).
@@ -89,6 +94,14 @@ struct VdtOptimizerOptions {
   /// 2D localizer only: when the map does not explain a scan, match it against the recent scans
   /// instead of keeping the bare odometry guess (see local_scan_map.hpp).
   LocalScanMapOptions bridge;
+};
+
+/// \brief A Gaussian prior on the pose: the cost gains 1/2 e^T information e, e = X (-) mean in the
+/// perturbation of PoseTraits<Dim> (2D: additive with the angle wrapped).
+template <int Dim>
+struct PosePrior {
+  typename PoseTraits<Dim>::Pose mean = PoseTraits<Dim>::identity();
+  typename PoseTraits<Dim>::Covariance information = PoseTraits<Dim>::Covariance::Zero();
 };
 
 /// \brief Algorithm 1's OPTIMIZE: one observation set against the map from an initial guess
@@ -111,6 +124,13 @@ class VdtOptimizerT {
   /// (positive definite Hessian), with status kNotConverged if Ceres hit its iteration limit.
   [[nodiscard]] Result solve(const Observations& observations, const Pose& guess) const;
 
+  /// \brief As solve(observations, guess) with a prior term in every solve (a maximum a
+  /// posteriori estimate). The solvers minimise the plain VCD, so the prior joins it as
+  /// s^2/2 e^T I e, s^2 the a priori variance of a disparity component (map floor + reading
+  /// noise); the covariance is the posterior's, A^-1 (M + s^4 I) A^-1 with A = H + s^2 I. 2D only.
+  [[nodiscard]] Result solve(const Observations& observations, const Pose& guess,
+                             const PosePrior<Dim>& prior) const;
+
   /// \brief The pose covariance at `pose` over the readings flagged in `inliers` (in the 4-DOF
   /// mode with zero rows and columns for dtheta_x, dtheta_y).
   /// \return false when the Hessian is not positive definite (not a minimum).
@@ -123,9 +143,14 @@ class VdtOptimizerT {
   [[nodiscard]] bool is_free(int k) const noexcept;
 
  private:
-  /// covariance() with the readings visited in `order` (see lookup_order in the .cpp).
+  /// solve() with an optional prior, its information already in VCD units (times prior_s2).
+  [[nodiscard]] Result solve_with(const Observations& observations, const Pose& guess,
+                                  const PosePrior<Dim>* prior, double prior_s2) const;
+  /// covariance() with the readings visited in `order` (see lookup_order in the .cpp), with the
+  /// prior's information in VCD units (times prior_s2) when there is one.
   [[nodiscard]] bool covariance(const Observations& observations, const Pose& pose,
                                 const std::vector<char>& inliers, const std::vector<int>& order,
+                                const Covariance* prior_information, double prior_s2,
                                 Covariance* cov) const;
 
   SensorModel model_;

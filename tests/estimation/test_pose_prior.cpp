@@ -1,0 +1,102 @@
+// The optimizer with a pose prior (a maximum a posteriori solve, VdtOptimizerOptions::
+// odometry_prior): on one straight wall the prior holds the direction the wall leaves free and
+// the scan sets the others; a strong prior wins, a weak one changes nothing.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "scan_fixture.hpp"
+#include "solver_choice.hpp"
+#include "vdtnav/estimation/vdt_optimizer.hpp"
+
+namespace vdtnav {
+namespace {
+
+/// A 10 m x 3 m map at 0.05 m with one wall along x at y = 1.025 m (row 20).
+const VdtMap2& wall_map() {
+  static const VdtMap2 map = [] {
+    OccupancyGrid<2> occ(Eigen::Vector2i(200, 60), GridFrame<2>(0.05, Eigen::Vector2d::Zero()), 0);
+    for (int x = 0; x < 200; ++x) occ(Eigen::Vector2i(x, 20)) = 1;
+    return VdtMap2::build(occ);
+  }();
+  return map;
+}
+
+/// Readings of the wall from `pose`: 121 endpoints between x = 2 and 8 m, range noise sigma.
+ScanPoints wall_scan(const Pose2& pose, double sigma, std::mt19937& rng) {
+  ScanPoints s;
+  s.sigma_range = 0.01;
+  std::normal_distribution<double> noise(0.0, sigma);
+  const Eigen::Rotation2Dd to_robot(-pose[2]);
+  for (int k = 0; k <= 120; ++k) {
+    const Eigen::Vector2d world(2.0 + 0.05 * k, 1.025);
+    const Eigen::Vector2d rel = to_robot * (world - pose.head<2>());
+    const Eigen::Vector2d u = rel.normalized();
+    s.points.push_back(rel + noise(rng) * u);
+    s.directions.push_back(u);
+    s.ranges.push_back(rel.norm());
+    s.beam.push_back(static_cast<std::size_t>(k));
+  }
+  return s;
+}
+
+class PosePriorTest : public ::testing::TestWithParam<test::SolverChoice> {};
+
+TEST_P(PosePriorTest, OnOneWallThePriorHoldsTheFreeDirectionAndTheScanTheOthers) {
+  VdtOptimizerOptions o;
+  GetParam().apply(o);
+  const VdtOptimizer opt(wall_map(), o);
+  std::mt19937 rng(3);
+  const Pose2 truth(5.0, 2.2, 0.3);
+  const ScanPoints scan = wall_scan(truth, 0.005, rng);
+  PosePrior<2> prior;
+  prior.mean = truth + Pose2(0.07, 0.03, 0.02);
+  const Eigen::Vector3d sd(0.1, 0.1, 0.05);
+  prior.information = sd.cwiseInverse().cwiseAbs2().asDiagonal();
+
+  const LocalizationResult r = opt.solve(scan, prior.mean, prior);
+  ASSERT_EQ(r.status, LocalizationStatus::kConverged);
+  ASSERT_TRUE(r.has_covariance);
+  // Along the wall the scan says nothing: x stays at the prior's mean, with the prior's variance.
+  EXPECT_NEAR(r.pose[0], prior.mean[0], 1e-4);
+  EXPECT_NEAR(r.covariance(0, 0), sd[0] * sd[0], 0.01 * sd[0] * sd[0]);
+  // Across it, and in heading, the scan (121 readings, 5 mm noise) outweighs the prior.
+  EXPECT_NEAR(r.pose[1], truth[1], 3e-3);
+  EXPECT_NEAR(r.pose[2], truth[2], 3e-3);
+  EXPECT_LT(r.covariance(1, 1), 1e-3 * sd[1] * sd[1]);
+
+  // Without the prior the same scan leaves x undetermined: no covariance, not "converged".
+  const LocalizationResult ml = opt.solve(scan, prior.mean);
+  EXPECT_FALSE(ml.has_covariance && ml.covariance(0, 0) < 100.0 * sd[0] * sd[0]);
+}
+
+TEST_P(PosePriorTest, AStrongPriorWinsAndAWeakOneChangesNothing) {
+  VdtOptimizerOptions o;
+  GetParam().apply(o);
+  o.sensor.gate = 0.5;
+  const VdtOptimizer opt(test::world().map, o);
+  std::mt19937 rng(4);
+  const Pose2 truth = test::tour_pose(4);
+  const ScanPoints scan = scan_points(test::simulate_scan(truth, 0.01, rng, 361));
+  const Pose2 guess = truth + Pose2(0.03, -0.02, 0.01);
+  const LocalizationResult ml = opt.solve(scan, guess);
+  ASSERT_EQ(ml.status, LocalizationStatus::kConverged);
+
+  PosePrior<2> weak{guess, 1e-8 * Eigen::Matrix3d::Identity()};
+  const LocalizationResult w = opt.solve(scan, guess, weak);
+  ASSERT_TRUE(w.has_covariance);
+  EXPECT_LT(pose_error(w.pose, ml.pose).norm(), 1e-6);
+  EXPECT_LT((w.covariance - ml.covariance).norm(), 1e-6 * ml.covariance.norm());
+
+  PosePrior<2> strong{guess, 1e14 * Eigen::Matrix3d::Identity()};
+  const LocalizationResult s = opt.solve(scan, guess, strong);
+  ASSERT_TRUE(s.has_covariance);
+  EXPECT_LT(pose_error(s.pose, guess).norm(), 1e-6);
+  EXPECT_NEAR(s.covariance.trace(), 3e-14, 1e-15);  // the prior's variance
+}
+
+INSTANTIATE_TEST_SUITE_P(Solvers, PosePriorTest, ::testing::ValuesIn(test::kSolverChoices));
+
+}  // namespace
+}  // namespace vdtnav
