@@ -138,10 +138,10 @@ void localize_intel(benchmark::State& state, ScanSolver solver) {
   state.counters["refused_pct"] = 100.0 * statuses[LocalizationStatus::kRefused] / n;
 }
 /// With the log settings as they are (Ceres) and, for the ratio, the dense solver.
-void BM_LocalizeIntel(benchmark::State& state) { localize_intel(state, ScanSolver::kCeres); }
-void BM_LocalizeIntelDense(benchmark::State& state) { localize_intel(state, ScanSolver::kDense); }
+void BM_LocalizeIntel(benchmark::State& state) { localize_intel(state, ScanSolver::kDense); }
+void BM_LocalizeIntelCeres(benchmark::State& state) { localize_intel(state, ScanSolver::kCeres); }
 BENCHMARK(BM_LocalizeIntel)->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_LocalizeIntelDense)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_LocalizeIntelCeres)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace vdtnav

@@ -34,11 +34,11 @@ namespace vdtnav {
 
 /// \brief Which solver minimises the cost of one observation set.
 enum class ScanSolver {
-  kCeres,  ///< Ceres Solver, one dense residual block, trust region `trust_region` (default)
+  kCeres,  ///< Ceres Solver, one dense residual block, trust region `trust_region`
   /// Levenberg-Marquardt on the fixed-size normal equations, the Jacobians accumulated in one
   /// pass over the readings (scan_lm.hpp): Ceres's LM steps and stopping rules without its
   /// general machinery, 1.5-2.5x faster per solve for 3 to 6 unknowns, the same optimum and
-  /// covariance (tested).
+  /// covariance (tested). The default.
   kDense,
 };
 /// \brief Ceres trust-region strategy (ScanSolver::kCeres; the dense solver is LM).
@@ -54,7 +54,7 @@ enum class CovarianceMethod {
 /// \brief Options of the optimization localizer.
 struct VdtOptimizerOptions {
   VdtSensorModelOptions sensor;
-  ScanSolver solver = ScanSolver::kCeres;
+  ScanSolver solver = ScanSolver::kDense;
   TrustRegion trust_region = TrustRegion::kLevenbergMarquardt;
   RobustLoss loss = RobustLoss::kNone;
   double loss_scale = 0.05;  ///< metres: where the robust loss departs from quadratic
