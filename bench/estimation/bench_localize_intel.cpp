@@ -137,7 +137,7 @@ void localize_intel(benchmark::State& state, ScanSolver solver) {
   state.counters["not_converged_pct"] = 100.0 * statuses[LocalizationStatus::kNotConverged] / n;
   state.counters["refused_pct"] = 100.0 * statuses[LocalizationStatus::kRefused] / n;
 }
-/// With the log settings as they are (Ceres) and, for the ratio, the dense solver.
+/// With the log settings as they are (the dense solver) and, for the ratio, Ceres.
 void BM_LocalizeIntel(benchmark::State& state) { localize_intel(state, ScanSolver::kDense); }
 void BM_LocalizeIntelCeres(benchmark::State& state) { localize_intel(state, ScanSolver::kCeres); }
 BENCHMARK(BM_LocalizeIntel)->Unit(benchmark::kMillisecond);

@@ -76,7 +76,7 @@ void solve_2d(benchmark::State& state, ScanSolver solver) {
   state.counters["with_covariance_pct"] = 100.0 * converged / std::max(1, solves);
   state.counters["iterations"] = iterations / std::max(1, solves);
 }
-/// Ceres (the default) and, for the ratio in the same run, the dense Levenberg-Marquardt.
+/// The default dense Levenberg-Marquardt and, for the ratio in the same run, Ceres.
 void BM_VdtOptSolve2D(benchmark::State& state) { solve_2d(state, ScanSolver::kDense); }
 void BM_VdtOptSolve2DCeres(benchmark::State& state) { solve_2d(state, ScanSolver::kCeres); }
 BENCHMARK(BM_VdtOptSolve2D)->Unit(benchmark::kMillisecond);

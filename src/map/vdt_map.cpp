@@ -142,11 +142,7 @@ template <int Dim>
 void VdtMap<Dim>::evaluate(const Vector* p, std::size_t n, VdtSample<Dim>* out,
                            bool jacobian) const {
   if (detail::evaluate_simd(*this, p, n, out, jacobian)) return;
-  if (jacobian) {
-    for (std::size_t k = 0; k < n; ++k) out[k] = evaluate(p[k]);
-  } else {
-    for (std::size_t k = 0; k < n; ++k) out[k].value = value(p[k], &out[k].inside);
-  }
+  for (std::size_t k = 0; k < n; ++k) out[k] = evaluate_portable(p[k], jacobian);
 }
 
 template <int Dim>

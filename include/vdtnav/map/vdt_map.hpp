@@ -73,13 +73,10 @@ class VdtMap {
   [[nodiscard]] static VdtMap build(const OccupancyGrid<Dim>& occupied,
                                     bool all_occupied_cells = false);
 
-  /// \brief Interpolated DT_v and Jacobian at world point p.
+  /// \brief Interpolated DT_v and Jacobian at world point p (the batch lookup for one point).
   [[nodiscard]] VdtSample<Dim> evaluate(const Vector& p) const {
     VdtSample<Dim> s;
-    Vector u = frame().continuous_index(p);
-    s.inside = field_.clamp(u);
-    field_.evaluate(u, &s.value, &s.jacobian, nullptr);  // grid axes, per unit of u
-    to_world(s);
+    evaluate(&p, 1, &s);
     return s;
   }
 
@@ -92,14 +89,12 @@ class VdtMap {
   /// \brief Interpolated DT_v, Jacobian and Hessians at world point p.
   [[nodiscard]] VdtSampleWithHessian<Dim> evaluate_with_hessian(const Vector& p) const;
 
-  /// \brief Interpolated DT_v only.
+  /// \brief Interpolated DT_v only (the batch lookup for one point, without the Jacobian).
   [[nodiscard]] Vector value(const Vector& p, bool* inside = nullptr) const {
-    typename Field::Values v;
-    Vector u = frame().continuous_index(p);
-    const bool in = field_.clamp(u);
-    if (inside != nullptr) *inside = in;
-    field_.evaluate(u, &v, nullptr, nullptr);
-    return frame().axis_aligned() ? Vector(v) : Vector(frame().rotation() * v);
+    VdtSample<Dim> s;
+    evaluate(&p, 1, &s, /*jacobian=*/false);
+    if (inside != nullptr) *inside = s.inside;
+    return s.value;
   }
 
   /// \brief The exact alternative to interpolation (SPEC, Numerical notes): the residual from the
@@ -123,6 +118,16 @@ class VdtMap {
   }
 
  private:
+  /// The portable lookup of one point (the batch lookup's baseline kernel).
+  [[nodiscard]] VdtSample<Dim> evaluate_portable(const Vector& p, bool jacobian) const {
+    VdtSample<Dim> s;
+    Vector u = frame().continuous_index(p);
+    s.inside = field_.clamp(u);
+    field_.evaluate(u, &s.value, jacobian ? &s.jacobian : nullptr, nullptr);  // grid axes
+    to_world(s);
+    return s;
+  }
+
   /// Turns a sample in grid axes per unit of u into world axes per metre:
   /// du/dp = R^T / resolution, so DT_v -> R DT_v and J -> R J R^T / resolution.
   template <typename Sample>
