@@ -249,9 +249,9 @@ class PriorCost2 final : public ceres::SizedCostFunction<3, 3> {
     Eigen::Map<Eigen::Vector3d> r(residuals);
     r = sqrt_information_ * e;
     if (jacobians != nullptr && jacobians[0] != nullptr) {
+      // de/dX = I: the 2D perturbation is additive (the angle wrap is piecewise constant).
       Eigen::Map<Eigen::Matrix<double, 3, 3, Eigen::RowMajor>> j(jacobians[0]);
-      j = sqrt_information_;  // de/dX = I (additive 2D perturbation; the wrap is piecewise
-                              // constant)
+      j = sqrt_information_;
     }
     return true;
   }
