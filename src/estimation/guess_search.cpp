@@ -4,39 +4,19 @@
 #include <cmath>
 #include <vector>
 
+#include "scan_scores.hpp"
+
 namespace vdtnav {
 
 double explained_fraction(const VdtSensorModel& model, const ScanPoints& scan, const Pose2& pose,
                           double distance) {
-  if (scan.size() == 0) return 0.0;
-  thread_local std::vector<BeamDisparity> ds;  // scratch: no allocation per call
-  model.disparities(PoseTraits<2>::rotation(pose), pose.head<2>(), scan, nullptr, &ds,
-                    DisparityParts::kValue);
-  const double d2 = distance * distance;
-  std::size_t n = 0;
-  for (const BeamDisparity& b : ds) n += b.inlier && b.d.squaredNorm() < d2;
-  return static_cast<double>(n) / static_cast<double>(scan.size());
+  return detail::explained_fraction_at(model, scan, PoseTraits<2>::rotation(pose), pose.head<2>(),
+                                       distance);
 }
-
-namespace {
-
-/// The truncated VCD over the readings `beams` (all when null).
-double truncated_vcd_of(const VdtSensorModel& model, const ScanPoints& scan, const Pose2& pose,
-                        double tau, const std::vector<int>* beams) {
-  thread_local std::vector<BeamDisparity> ds;
-  model.disparities(PoseTraits<2>::rotation(pose), pose.head<2>(), scan, beams, &ds,
-                    DisparityParts::kValue);
-  const double t2 = tau * tau;
-  double sum = 0.0;
-  for (const BeamDisparity& b : ds) sum += b.inlier ? std::min(b.d.squaredNorm(), t2) : t2;
-  return sum;
-}
-
-}  // namespace
 
 double truncated_vcd(const VdtSensorModel& model, const ScanPoints& scan, const Pose2& pose,
                      double tau) {
-  return truncated_vcd_of(model, scan, pose, tau, nullptr);
+  return detail::truncated_vcd_at(model, scan, PoseTraits<2>::rotation(pose), pose.head<2>(), tau);
 }
 
 Pose2 search_guess(const VdtSensorModel& model, const ScanPoints& scan, const Pose2& guess,
@@ -47,7 +27,11 @@ Pose2 search_guess(const VdtSensorModel& model, const ScanPoints& scan, const Po
   std::vector<int> subset;
   for (std::size_t i = 0; i < scan.size(); i += stride) subset.push_back(static_cast<int>(i));
   Pose2 best = guess;
-  double best_score = truncated_vcd_of(model, scan, guess, o.truncation, &subset);
+  const auto score_at = [&](const Pose2& x) {
+    return detail::truncated_vcd_at(model, scan, PoseTraits<2>::rotation(x), x.head<2>(),
+                                    o.truncation, &subset);
+  };
+  double best_score = score_at(guess);
   int hxy = std::max(0, o.steps_xy / 2), hyaw = std::max(0, o.steps_yaw / 2);
   const double sxy = hxy > 0 ? o.window_xy / hxy : 0.0;
   const double syaw = hyaw > 0 ? o.window_yaw / hyaw : 0.0;
@@ -66,7 +50,7 @@ Pose2 search_guess(const VdtSensorModel& model, const ScanPoints& scan, const Po
       for (int j = -hxy; j <= hxy; ++j) {
         if (a == 0 && i == 0 && j == 0) continue;
         const Pose2 c(guess[0] + i * sxy, guess[1] + j * sxy, wrap_angle(guess[2] + a * syaw));
-        const double score = truncated_vcd_of(model, scan, c, o.truncation, &subset);
+        const double score = score_at(c);
         if (score < best_score) {
           best_score = score;
           best = c;

@@ -5,35 +5,19 @@
 #include <random>
 #include <utility>
 
+#include "scan_scores.hpp"
+
 namespace vdtnav {
 
 double explained_fraction(const VdtSensorModel3& model, const ObservationSet<3>& observations,
                           const Pose3& pose, double distance) {
-  if (observations.size() == 0) return 0.0;
-  const Eigen::Matrix3d r = pose.linear();
-  const Eigen::Vector3d t = pose.translation();
-  const double d2 = distance * distance;
-  std::size_t n = 0;
-  for (const Eigen::Vector3d& p : observations.points) {
-    bool inlier = false;
-    const Eigen::Vector3d d = model.disparity_value(r, t, p, &inlier);
-    n += inlier && d.squaredNorm() < d2;
-  }
-  return static_cast<double>(n) / static_cast<double>(observations.size());
+  return detail::explained_fraction_at(model, observations, pose.linear(), pose.translation(),
+                                       distance);
 }
 
 double truncated_vcd(const VdtSensorModel3& model, const ObservationSet<3>& observations,
                      const Pose3& pose, double tau) {
-  const Eigen::Matrix3d r = pose.linear();
-  const Eigen::Vector3d t = pose.translation();
-  const double t2 = tau * tau;
-  double sum = 0.0;
-  for (const Eigen::Vector3d& p : observations.points) {
-    bool inlier = false;
-    const Eigen::Vector3d d = model.disparity_value(r, t, p, &inlier);
-    sum += inlier ? std::min(d.squaredNorm(), t2) : t2;
-  }
-  return sum;
+  return detail::truncated_vcd_at(model, observations, pose.linear(), pose.translation(), tau);
 }
 
 LocalizationResult3 solve_multi_start(const VdtOptimizer3& optimizer,

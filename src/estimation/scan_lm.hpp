@@ -10,7 +10,8 @@
 ///   F(X) = 1/2 sum_i w_i^2 rho(|d_i|^2) [+ 1/2 e^T I e]     (rho(s) = s without a robust loss)
 /// Gradient and Gauss-Newton matrix, in the pose perturbation of PoseTraits<Dim>:
 ///   g = sum_i w_i^2 rho'_i J_i^T d_i [+ I e],   H = sum_i w_i^2 rho'_i J_i^T J_i [+ I]
-/// (the IRLS weighting; in brackets an optional prior, e = X (-) mean, see ScanLmPrior).
+/// (the IRLS weighting; in brackets an optional prior, e = X (-) mean, a PosePrior; the
+/// Jacobian of e is taken as the identity: exact in 2D, first order at the mean in 3D).
 /// Step: (H + lambda D) delta = -g, D = diag(H) clamped to [1e-6, 1e32] (Ceres's LM), factored by
 /// Cholesky and accepted when the cost falls by at least 1e-3 of the model's predicted decrease;
 /// lambda = 1 / radius with Ceres's (Nielsen's) radius update. Stops as
@@ -74,14 +75,6 @@ struct ScanLmSettings {
   unsigned held_mask = 0;
 };
 
-/// A prior term 1/2 e^T I e, e = X (-) mean, in F (Jacobian of e taken as the identity: exact in
-/// 2D, first order at the mean in 3D).
-template <int Dim>
-struct ScanLmPrior {
-  typename PoseTraits<Dim>::Pose mean;
-  typename PoseTraits<Dim>::Covariance information;
-};
-
 /// What a solve did (the fields of ceres::Solver::Summary the optimizer reads; the optimizer
 /// reports a Ceres solve in the same form).
 struct ScanLmSummary {
@@ -98,7 +91,7 @@ ScanLmSummary solve_scan_lm(const VdtSensorModelT<Dim>& model, const Observation
                             const std::vector<int>& beams, const std::vector<double>& sqrt_w,
                             RobustLoss loss, double loss_scale, const ScanLmSettings& settings,
                             typename PoseTraits<Dim>::Pose* pose,
-                            const ScanLmPrior<Dim>* prior = nullptr) {
+                            const PosePrior<Dim>* prior = nullptr) {
   using Traits = PoseTraits<Dim>;
   using Pose = typename Traits::Pose;
   using Tangent = typename Traits::Tangent;

@@ -275,10 +275,8 @@ detail::ScanLmSummary run_solver(const VdtSensorModelT<Dim>& model, const Observ
     ls.parameter_tolerance = setup.parameter_tolerance;
     ls.held_mask = (Dim == 3 && setup.four_dof) ? (1u << 3 | 1u << 4) : 0u;  // see is_free()
     typename PoseTraits<Dim>::Pose pose = Parameterization<Dim>::pose(x);
-    detail::ScanLmPrior<Dim> lm_prior;
-    if (prior != nullptr) lm_prior = {prior->mean, prior->information};
-    const detail::ScanLmSummary out = detail::solve_scan_lm<Dim>(
-        model, scan, beams, sqrt_w, loss, loss_scale, ls, &pose, prior ? &lm_prior : nullptr);
+    const detail::ScanLmSummary out =
+        detail::solve_scan_lm<Dim>(model, scan, beams, sqrt_w, loss, loss_scale, ls, &pose, prior);
     Parameterization<Dim>::set(pose, x);
     return out;
   }

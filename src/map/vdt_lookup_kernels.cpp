@@ -169,24 +169,34 @@ VDTNAV_AVX2 void lookup_3d_avx2(const VdtMap<3>& map, const Eigen::Vector3d* p, 
   const __m256i xy_halves = _mm256_setr_epi32(0, 0, 0, 0, 1, 1, 1, 1);
   const __m256i z_lanes = _mm256_set1_epi32(2);
   const __m128 to_world = _mm_set1_ps(static_cast<float>(map.frame().inv_resolution()));
-  // The support of point i + kPrefetch is requested while point i is summed: 16 rows in 4
-  // planes, mostly not in L1 (scan endpoints hop between walls), whose latency would otherwise
-  // serialise the loop.
-  const auto support = [&](std::size_t k) VDTNAV_AVX2 {
-    const __m256d u = _mm256_sub_pd(
+  // Point k's continuous index u = (p - origin) / resolution - 1/2, clamped to the node hull
+  // (uc), and the first coefficient of its 4 x 4 x 4 support (its span `base`, u = n-1 in the
+  // last span with t = 1).
+  struct Located {
+    __m256d u, uc;
+    __m128i base;
+    const float* c0;
+  };
+  const auto locate = [&](std::size_t k) VDTNAV_AVX2 {
+    Located l;
+    l.u = _mm256_sub_pd(
         _mm256_mul_pd(_mm256_sub_pd(_mm256_maskload_pd(p[k].data(), first3), origin), inv_res),
         half);
-    const __m128i b =
-        _mm_min_epi32(_mm256_cvttpd_epi32(_mm256_min_pd(_mm256_max_pd(u, zero), hi)), last_span);
-    return coef + ((static_cast<std::ptrdiff_t>(_mm_extract_epi32(b, 2)) * padded.y() +
-                    _mm_extract_epi32(b, 1)) *
+    l.uc = _mm256_min_pd(_mm256_max_pd(l.u, zero), hi);
+    l.base = _mm_min_epi32(_mm256_cvttpd_epi32(l.uc), last_span);
+    l.c0 = coef + ((static_cast<std::ptrdiff_t>(_mm_extract_epi32(l.base, 2)) * padded.y() +
+                    _mm_extract_epi32(l.base, 1)) *
                        padded.x() +
-                   _mm_cvtsi128_si32(b)) *
+                   _mm_cvtsi128_si32(l.base)) *
                       3;
+    return l;
   };
   for (std::size_t i = 0; i < n; ++i) {
+    // The support of point i + kPrefetch is requested while point i is summed: 16 rows in 4
+    // planes, mostly not in L1 (scan endpoints hop between walls), whose latency would otherwise
+    // serialise the loop.
     if (i + kPrefetch < n) {
-      const float* f = support(i + kPrefetch);
+      const float* f = locate(i + kPrefetch).c0;
       for (int k = 0; k < 4; ++k)
         for (int j = 0; j < 4; ++j) {
           const char* row = reinterpret_cast<const char*>(f + k * plane_stride + j * row_stride);
@@ -194,19 +204,12 @@ VDTNAV_AVX2 void lookup_3d_avx2(const VdtMap<3>& map, const Eigen::Vector3d* p, 
           _mm_prefetch(row + 44, _MM_HINT_T0);
         }
     }
-    const __m256d u = _mm256_sub_pd(
-        _mm256_mul_pd(_mm256_sub_pd(_mm256_maskload_pd(p[i].data(), first3), origin), inv_res),
-        half);
-    const __m256d in =
-        _mm256_and_pd(_mm256_cmp_pd(u, lo_tol, _CMP_GE_OQ), _mm256_cmp_pd(u, hi_tol, _CMP_LE_OQ));
+    const Located l = locate(i);
+    const __m256d in = _mm256_and_pd(_mm256_cmp_pd(l.u, lo_tol, _CMP_GE_OQ),
+                                     _mm256_cmp_pd(l.u, hi_tol, _CMP_LE_OQ));
     out[i].inside = (_mm256_movemask_pd(in) & 7) == 7;
-    const __m256d uc = _mm256_min_pd(_mm256_max_pd(u, zero), hi);
-    const __m128i base = _mm_min_epi32(_mm256_cvttpd_epi32(uc), last_span);  // u = n-1: t = 1
-    const __m128 t = _mm256_cvtpd_ps(_mm256_sub_pd(uc, _mm256_cvtepi32_pd(base)));
-    const int ix = _mm_cvtsi128_si32(base), iy = _mm_extract_epi32(base, 1),
-              iz = _mm_extract_epi32(base, 2);
-    const float* c0 =
-        coef + ((static_cast<std::ptrdiff_t>(iz) * padded.y() + iy) * padded.x() + ix) * 3;
+    const __m128 t = _mm256_cvtpd_ps(_mm256_sub_pd(l.uc, _mm256_cvtepi32_pd(l.base)));
+    const float* c0 = l.c0;
     __m256 wxy, dwxy, wz, dwz;
     const __m256 t8 = _mm256_castps128_ps256(t);
     spline_weights(_mm256_permutevar8x32_ps(t8, xy_halves), &wxy, &dwxy);

@@ -52,12 +52,12 @@ bool VdtSensorModelT<Dim>::passes_gate(const Vector& d) const noexcept {
 
 template <int Dim>
 typename VdtSensorModelT<Dim>::Disparity VdtSensorModelT<Dim>::from_sample(
-    const VdtSample<Dim>& sample, const Rotation& r, const Vector& p, const Vector& u) const {
+    const VdtSample<Dim>& sample, const Rotation& r, const Vector& rp, const Vector& u) const {
   Disparity b;
   b.d = sample.value;
   b.inside = sample.inside;
   b.inlier = b.inside && passes_gate(b.d);
-  b.d_pose = Traits::pose_jacobian(sample.jacobian, r * p);  // J dq/dX
+  b.d_pose = Traits::pose_jacobian(sample.jacobian, rp);  // J dq/dX
   b.d_point.noalias() = sample.jacobian * r;
   b.d_range.noalias() = b.d_point * u;  // J R u
   return b;
@@ -73,11 +73,15 @@ void VdtSensorModelT<Dim>::disparities(const Rotation& r, const Vector& t,
     return beams != nullptr ? static_cast<std::size_t>((*beams)[k]) : k;
   };
   // Scratch of this thread: the estimators call this once per pass over a scan.
-  thread_local std::vector<Vector> endpoints;
+  thread_local std::vector<Vector> rotated, endpoints;  // R p_i (for d_pose) and R p_i + t
   thread_local std::vector<VdtSample<Dim>> samples;
+  rotated.resize(n);
   endpoints.resize(n);
   samples.resize(n);
-  for (std::size_t k = 0; k < n; ++k) endpoints[k] = r * observations.points[reading(k)] + t;
+  for (std::size_t k = 0; k < n; ++k) {
+    rotated[k] = r * observations.points[reading(k)];
+    endpoints[k] = rotated[k] + t;
+  }
   if (options_.residual == ResidualMode::kNearestPoint) {
     for (std::size_t k = 0; k < n; ++k) samples[k] = map_->nearest_point_query(endpoints[k]);
   } else {
@@ -86,8 +90,7 @@ void VdtSensorModelT<Dim>::disparities(const Rotation& r, const Vector& t,
   out->resize(n);
   if (parts == DisparityParts::kAll) {
     for (std::size_t k = 0; k < n; ++k) {
-      const std::size_t i = reading(k);
-      (*out)[k] = from_sample(samples[k], r, observations.points[i], observations.directions[i]);
+      (*out)[k] = from_sample(samples[k], r, rotated[k], observations.directions[reading(k)]);
     }
     return;
   }
@@ -97,7 +100,7 @@ void VdtSensorModelT<Dim>::disparities(const Rotation& r, const Vector& t,
     b.inside = samples[k].inside;
     b.inlier = b.inside && passes_gate(b.d);
     if (parts == DisparityParts::kPose) {
-      b.d_pose = Traits::pose_jacobian(samples[k].jacobian, r * observations.points[reading(k)]);
+      b.d_pose = Traits::pose_jacobian(samples[k].jacobian, rotated[k]);
     }
   }
 }
@@ -120,7 +123,7 @@ typename VdtSensorModelT<Dim>::Disparity VdtSensorModelT<Dim>::disparity(
   } else {
     smp = map_->evaluate(q);
   }
-  const Disparity b = from_sample(smp, r, p, u);
+  const Disparity b = from_sample(smp, r, rp, u);
   const Matrix& jac = smp.jacobian;
 
   if (curvature != nullptr) {

@@ -21,8 +21,6 @@
 
 #include <Eigen/Core>
 
-#include <type_traits>
-
 #include "vdtnav/core/traits.hpp"
 #include "vdtnav/map/vdt_map.hpp"
 #include "vdtnav/sensor/laser_scan.hpp"
@@ -153,21 +151,6 @@ class VdtSensorModelT {
   [[nodiscard]] Vector disparity_value(const Rotation& r, const Vector& t, const Vector& p,
                                        bool* inlier, bool* inside = nullptr) const;
 
-  /// \brief 2D: as disparity(pose, p, u, curvature) with cos(phi), sin(phi) given.
-  template <int D = Dim, std::enable_if_t<D == 2, int> = 0>
-  [[nodiscard]] Disparity disparity(const Pose2& pose, double cos_phi, double sin_phi,
-                                    const Eigen::Vector2d& p, const Eigen::Vector2d& u,
-                                    Curvature* curvature = nullptr) const {
-    return disparity(Traits::rotation(cos_phi, sin_phi), pose.head<2>(), p, u, curvature);
-  }
-
-  /// \brief 2D: disparity_value at pose (x, y, phi) with cos(phi), sin(phi) given.
-  template <int D = Dim, std::enable_if_t<D == 2, int> = 0>
-  [[nodiscard]] Eigen::Vector2d disparity_value(const Pose2& pose, double cos_phi, double sin_phi,
-                                                const Eigen::Vector2d& p, bool* inlier) const {
-    return disparity_value(Traits::rotation(cos_phi, sin_phi), pose.head<2>(), p, inlier);
-  }
-
   /// \brief Dim x Dim covariance of d_i from the range noise (and the map-noise floor).
   [[nodiscard]] Matrix disparity_covariance(const Disparity& b, double sigma_range) const;
 
@@ -190,9 +173,10 @@ class VdtSensorModelT {
 
  private:
   [[nodiscard]] bool passes_gate(const Vector& d) const noexcept;
-  /// The disparity of the reading (p, u) from the map's sample at its endpoint R p + t.
+  /// The disparity of the reading (p, u) from the map's sample at its endpoint R p + t, given
+  /// rp = R p.
   [[nodiscard]] Disparity from_sample(const VdtSample<Dim>& sample, const Rotation& r,
-                                      const Vector& p, const Vector& u) const;
+                                      const Vector& rp, const Vector& u) const;
 
   const Map* map_;
   VdtSensorModelOptions options_;

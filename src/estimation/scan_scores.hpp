@@ -1,0 +1,44 @@
+#pragma once
+// How well a map explains an observation set at a pose, in one batch lookup of its readings: the
+// explained fraction and the truncated VCD of guess_search.hpp (2D) and multi_start.hpp (3D).
+
+#include <algorithm>
+#include <cstddef>
+#include <vector>
+
+#include "vdtnav/core/traits.hpp"
+#include "vdtnav/sensor/observation_set.hpp"
+#include "vdtnav/sensor/vdt_sensor_model.hpp"
+
+namespace vdtnav::detail {
+
+/// The share of the readings that are inliers with |d_i| < distance, at the pose (R, t).
+template <int Dim>
+double explained_fraction_at(const VdtSensorModelT<Dim>& model, const ObservationSet<Dim>& set,
+                             const typename PoseTraits<Dim>::Rotation& r,
+                             const typename SpaceTraits<Dim>::Vector& t, double distance) {
+  if (set.size() == 0) return 0.0;
+  thread_local std::vector<BeamDisparityT<Dim>> ds;  // scratch: no allocation per call
+  model.disparities(r, t, set, nullptr, &ds, DisparityParts::kValue);
+  const double d2 = distance * distance;
+  std::size_t n = 0;
+  for (const BeamDisparityT<Dim>& b : ds) n += b.inlier && b.d.squaredNorm() < d2;
+  return static_cast<double>(n) / static_cast<double>(set.size());
+}
+
+/// The truncated VCD sum_i min(|d_i|^2, tau^2), an unexplained reading counting tau^2, over the
+/// readings `beams` (all when null), at the pose (R, t).
+template <int Dim>
+double truncated_vcd_at(const VdtSensorModelT<Dim>& model, const ObservationSet<Dim>& set,
+                        const typename PoseTraits<Dim>::Rotation& r,
+                        const typename SpaceTraits<Dim>::Vector& t, double tau,
+                        const std::vector<int>* beams = nullptr) {
+  thread_local std::vector<BeamDisparityT<Dim>> ds;  // scratch: no allocation per call
+  model.disparities(r, t, set, beams, &ds, DisparityParts::kValue);
+  const double t2 = tau * tau;
+  double sum = 0.0;
+  for (const BeamDisparityT<Dim>& b : ds) sum += b.inlier ? std::min(b.d.squaredNorm(), t2) : t2;
+  return sum;
+}
+
+}  // namespace vdtnav::detail
