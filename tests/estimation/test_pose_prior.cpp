@@ -98,5 +98,34 @@ TEST_P(PosePriorTest, AStrongPriorWinsAndAWeakOneChangesNothing) {
 
 INSTANTIATE_TEST_SUITE_P(Solvers, PosePriorTest, ::testing::ValuesIn(test::kSolverChoices));
 
+// The localizer's path (VdtOptimizerOptions::odometry_prior): along one wall the estimate follows
+// the odometry, the scan fixes y and the heading, and the reported variance along the wall is
+// the prediction's, not the scan's.
+TEST(PosePriorLocalizer, AlongAWallTheEstimateFollowsTheOdometryWithItsUncertainty) {
+  VdtOptimizerOptions o;
+  o.odometry_prior = true;
+  o.search.enabled = false;  // no window search and no acceptance test: the prior alone
+  o.bridge.enabled = false;
+  VdtOptimizationLocalizer loc(wall_map(), o);
+  const Pose2 start(5.0, 2.2, 0.3);
+  const Eigen::Matrix3d p0 = Eigen::Vector3d(0.05 * 0.05, 0.05 * 0.05, 0.02 * 0.02).asDiagonal();
+  loc.reset(start, p0);
+  OdometryStep odo;
+  odo.delta = Pose2(0.2, 0.0, 0.0);
+  const Pose2 truth = compose(start, odo.delta);  // the odometry is exact here
+  std::mt19937 rng(6);
+  const LocalizationResult r = loc.update(odo, wall_scan(truth, 0.005, rng));
+  ASSERT_EQ(r.status, LocalizationStatus::kConverged);
+  ASSERT_TRUE(r.has_covariance);
+  EXPECT_NEAR(r.pose[0], truth[0], 1e-4);  // nothing in the scan moves it along the wall
+  EXPECT_NEAR(r.pose[1], truth[1], 3e-3);
+  EXPECT_NEAR(r.pose[2], truth[2], 3e-3);
+  // Along the wall the uncertainty is the prediction's (the start's, grown by the odometry);
+  // across it the scan's, far smaller.
+  EXPECT_GE(r.covariance(0, 0), 0.99 * p0(0, 0));
+  EXPECT_LT(r.covariance(0, 0), 2.0 * p0(0, 0));
+  EXPECT_LT(r.covariance(1, 1), 1e-3 * p0(1, 1));
+}
+
 }  // namespace
 }  // namespace vdtnav
