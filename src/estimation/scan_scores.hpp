@@ -3,7 +3,9 @@
 // explained fraction and the truncated VCD of guess_search.hpp (2D) and multi_start.hpp (3D).
 
 #include <algorithm>
+#include <cmath>
 #include <cstddef>
+#include <limits>
 #include <vector>
 
 #include "vdtnav/core/traits.hpp"
@@ -27,17 +29,31 @@ double explained_fraction_at(const VdtSensorModelT<Dim>& model, const Observatio
 }
 
 /// The truncated VCD sum_i min(|d_i|^2, tau^2), an unexplained reading counting tau^2, over the
-/// readings `beams` (all when null), at the pose (R, t).
+/// readings `beams` (all when null), at the pose (R, t). The sum only grows, so a caller that only
+/// wants to know whether it stays below `stop_at` (a window search's best score) gets any value
+/// >= stop_at as soon as a prefix of the readings reaches it: the readings are looked up in
+/// chunks and the rest is skipped.
 template <int Dim>
 double truncated_vcd_at(const VdtSensorModelT<Dim>& model, const ObservationSet<Dim>& set,
                         const typename PoseTraits<Dim>::Rotation& r,
                         const typename SpaceTraits<Dim>::Vector& t, double tau,
-                        const std::vector<int>* beams = nullptr) {
+                        const std::vector<int>* beams = nullptr,
+                        double stop_at = std::numeric_limits<double>::infinity()) {
+  constexpr std::size_t kChunk = 64;  // readings per batch lookup between checks of stop_at
   thread_local std::vector<BeamDisparityT<Dim>> ds;  // scratch: no allocation per call
-  model.disparities(r, t, set, beams, &ds, DisparityParts::kValue);
+  thread_local std::vector<int> chunk;
+  const std::size_t n = beams != nullptr ? beams->size() : set.size();
+  const std::size_t step = std::isfinite(stop_at) ? kChunk : std::max<std::size_t>(n, 1);
   const double t2 = tau * tau;
   double sum = 0.0;
-  for (const BeamDisparityT<Dim>& b : ds) sum += b.inlier ? std::min(b.d.squaredNorm(), t2) : t2;
+  for (std::size_t first = 0; first < n && sum < stop_at; first += step) {
+    const std::size_t last = std::min(n, first + step);
+    chunk.resize(last - first);
+    for (std::size_t k = first; k < last; ++k)
+      chunk[k - first] = beams != nullptr ? (*beams)[k] : static_cast<int>(k);
+    model.disparities(r, t, set, &chunk, &ds, DisparityParts::kValue);
+    for (const BeamDisparityT<Dim>& b : ds) sum += b.inlier ? std::min(b.d.squaredNorm(), t2) : t2;
+  }
   return sum;
 }
 

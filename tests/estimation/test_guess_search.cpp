@@ -48,6 +48,42 @@ TEST(ExplainedFraction, CountsTheBeamsWithinTheDistanceAgainstABruteForceCount) 
   EXPECT_LT(explained_fraction(model, scan, truth + Pose2(0.0, 0.0, 0.3), 0.1), 0.6);
 }
 
+TEST(SearchGuess, PicksTheCandidateOfLeastTruncatedVcdAsAnExhaustiveSearchDoes) {
+  // search_guess drops a candidate once part of its readings scores no better than the best so
+  // far; the winner must be the exhaustive argmin over the same grid (first of equals kept).
+  const VdtSensorModel model(world().map);
+  GuessSearchOptions o;
+  o.max_beams = 0;  // every beam, as truncated_vcd() scores them
+  std::mt19937 rng(12);
+  int moved = 0;
+  for (std::size_t k : {1u, 4u, 9u, 14u, 19u}) {
+    const Pose2 truth = test::tour_pose(k);
+    const ScanPoints scan = scan_points(test::simulate_scan(truth, 0.02, rng));
+    const Pose2 guess = truth + Pose2(0.17, -0.12, 0.11);
+    Pose2 best = guess;
+    double best_score = truncated_vcd(model, scan, guess, o.truncation);
+    const int hxy = o.steps_xy / 2, hyaw = o.steps_yaw / 2;
+    for (int a = -hyaw; a <= hyaw; ++a) {
+      for (int i = -hxy; i <= hxy; ++i) {
+        for (int j = -hxy; j <= hxy; ++j) {
+          const Pose2 c(guess[0] + i * o.window_xy / hxy, guess[1] + j * o.window_xy / hxy,
+                        wrap_angle(guess[2] + a * o.window_yaw / hyaw));
+          const double score = truncated_vcd(model, scan, c, o.truncation);
+          if (score < best_score) {
+            best_score = score;
+            best = c;
+          }
+        }
+      }
+    }
+    const Pose2 found = search_guess(model, scan, guess, o);
+    EXPECT_LT(pose_error(found, best).norm(), 1e-12)
+        << found.transpose() << " vs " << best.transpose();
+    moved += pose_error(best, guess).norm() > 0.0;
+  }
+  EXPECT_GE(moved, 4) << "the guesses should be worse than some candidate of the window";
+}
+
 TEST(SearchGuess, TheWindowGrowsWithTheCovarianceAndFindsTheBasin) {
   const VdtSensorModel model(world().map);
   VdtOptimizerOptions oo;

@@ -50,6 +50,48 @@ Agreement compare(const VdtMap<Dim>& map, VdtOptimizerOptions o, const Observati
   return out;
 }
 
+TEST(ScanSolvers, TheDenseCauchyCostIsTheSumOfTheReadingsLogTerms) {
+  // The dense solver sums the Cauchy cost as b log prod_i (1 + s_i / b); here against the sum of
+  // b log1p(s_i / b) over the solve's readings at its estimate. A loss scale of 2 mm makes the
+  // factors large (up to ~6e4 within the 0.5 m gate), so the product must be flushed to its
+  // logarithm many times within one scan or it would overflow.
+  std::mt19937 rng(8);
+  for (const double scale : {0.05, 0.002}) {
+    const Pose2 truth = test::tour_pose(9);
+    LaserScan scan = test::simulate_scan(truth, 0.02, rng);
+    for (std::size_t i = 0; i < scan.ranges.size(); i += 5) scan.ranges[i] -= 0.2;  // clutter
+    const ScanPoints pts = scan_points(scan);
+    VdtOptimizerOptions o;
+    o.solver = ScanSolver::kDense;
+    o.loss = RobustLoss::kCauchy;
+    o.loss_scale = scale;
+    o.gate_rounds = 1;  // one solve over the readings gated at the guess
+    const Pose2 guess = truth + Pose2(0.01, -0.01, 0.005);
+    const VdtOptimizer opt(test::world().map, o);
+    const LocalizationResult r = opt.solve(pts, guess);
+    ASSERT_TRUE(r.status == LocalizationStatus::kConverged ||
+                r.status == LocalizationStatus::kNotConverged);
+    const VdtSensorModel& model = opt.sensor_model();
+    const Eigen::Rotation2Dd at_guess(guess[2]), at_estimate(r.pose[2]);
+    double expected = 0.0;
+    int used = 0;
+    for (std::size_t i = 0; i < pts.size(); ++i) {
+      bool inlier = false;
+      (void)model.disparity_value(at_guess.toRotationMatrix(), guess.head<2>(), pts.points[i],
+                                  &inlier);
+      if (!inlier) continue;
+      ++used;
+      bool unused = false;
+      const Eigen::Vector2d d = model.disparity_value(at_estimate.toRotationMatrix(),
+                                                      r.pose.head<2>(), pts.points[i], &unused);
+      expected += scale * scale * std::log1p(d.squaredNorm() / (scale * scale));
+    }
+    ASSERT_EQ(used, r.inliers);
+    // final_cost is the robust VCD sum rho (twice the solver's 1/2 sum rho).
+    EXPECT_NEAR(r.final_cost, expected, 1e-9 * expected) << "loss scale " << scale;
+  }
+}
+
 TEST(ScanSolvers, DenseAndCeresReachTheSameOptimumAndCovarianceIn2d) {
   std::mt19937 rng(3);
   for (const RobustLoss loss : {RobustLoss::kNone, RobustLoss::kCauchy}) {
