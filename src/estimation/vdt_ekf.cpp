@@ -192,4 +192,10 @@ LocalizationResult VdtEkfLocalizer::update(const OdometryStep& odometry, const S
   return result;
 }
 
+BearingUpdateResult VdtEkfLocalizer::update_bearings(
+    const std::vector<BearingDetection>& detections, const std::vector<Landmark2>& landmarks,
+    const BearingUpdateOptions& options) {
+  return ekf_bearing_update(detections, landmarks, options, x_, p_);
+}
+
 }  // namespace vdtnav

@@ -18,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "vdtnav/estimation/bearing_update.hpp"
 #include "vdtnav/estimation/guess_search.hpp"
 #include "vdtnav/estimation/localizer.hpp"
 #include "vdtnav/estimation/motion_model.hpp"
@@ -76,6 +77,15 @@ class VdtEkfLocalizer final : public Localizer2D {
   [[nodiscard]] LocalizationResult update(const OdometryStep& odometry,
                                           const ScanPoints& observations) override;
   [[nodiscard]] std::string name() const override { return name_; }
+
+  /// \brief Corrects the current estimate (no prediction: call after update() of the same
+  /// instant) with bearings to known landmarks, associated and gated (bearing_update.hpp).
+  BearingUpdateResult update_bearings(const std::vector<BearingDetection>& detections,
+                                      const std::vector<Landmark2>& landmarks,
+                                      const BearingUpdateOptions& options = {});
+  /// \brief The current estimate and its covariance (the filter's, without the map term).
+  [[nodiscard]] const Pose2& pose() const noexcept { return x_; }
+  [[nodiscard]] const Eigen::Matrix3d& covariance() const noexcept { return p_; }
 
  private:
   VdtSensorModel model_;
