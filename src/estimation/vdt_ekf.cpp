@@ -78,8 +78,22 @@ LocalizationResult VdtEkfLocalizer::update(const OdometryStep& odometry, const S
   // The iterations start at the prediction, or, when the map explains the scan poorly there, at
   // the best pose of a window search around it.
   Pose2 xi = x_;
-  if (so.enabled && explained_fraction(model_, pts, x_, so.explained_distance) < so.search_below) {
-    xi = search_guess(model_, pts, x_, so, &p_);
+  thread_local std::vector<BeamDisparity> disparities;  // scratch: no allocation per update
+  // The disparities at the prediction serve both the test below and the first iteration when it
+  // starts there (the explained fraction of guess_search.hpp from the same lookups).
+  bool at_xi = false;
+  if (so.enabled) {
+    model_.disparities(PoseTraits<2>::rotation(x_), x_.head<2>(), pts, nullptr, &disparities);
+    const double d2 = so.explained_distance * so.explained_distance;
+    std::size_t n = 0;
+    for (const BeamDisparity& b : disparities) n += b.inlier && b.d.squaredNorm() < d2;
+    const double explained =
+        pts.size() > 0 ? static_cast<double>(n) / static_cast<double>(pts.size()) : 0.0;
+    if (explained < so.search_below) {
+      xi = search_guess(model_, pts, x_, so, &p_);
+    } else {
+      at_xi = true;
+    }
   }
   if (start_ != nullptr) {
     const LocalizationResult r = start_->solve(pts, xi);
@@ -88,6 +102,7 @@ LocalizationResult VdtEkfLocalizer::update(const OdometryStep& odometry, const S
         explained_fraction(model_, pts, r.pose, so.explained_distance) >
             explained_fraction(model_, pts, xi, so.explained_distance)) {
       xi = r.pose;
+      at_xi = false;
     }
   }
   // Errors every point shares (a camera's roll, pitch, altitude: ObservationSet) are not
@@ -103,7 +118,6 @@ LocalizationResult VdtEkfLocalizer::update(const OdometryStep& odometry, const S
   const Eigen::Matrix3d prior_info = p_.inverse();
   Eigen::Matrix3d info = prior_info;
   Eigen::Matrix<double, 3, Eigen::Dynamic, 0, 3, ScanPoints::kMaxShared> cross(3, k);
-  thread_local std::vector<BeamDisparity> disparities;  // scratch: no allocation per update
   for (int it = 0; it < std::max(1, options_.max_iterations); ++it) {
     // Gauss-Newton step on (X - X_pred)^T P^-1 (X - X_pred) + sum d^T R^-1 d from the iterate
     // X_i; at X_i = X_pred this is the information-form update (3.13)-(3.21).
@@ -111,7 +125,9 @@ LocalizationResult VdtEkfLocalizer::update(const OdometryStep& odometry, const S
     Eigen::Vector3d b = -prior_info * pose_error(xi, x_);
     cross.setZero();
     int used = 0;
-    model_.disparities(PoseTraits<2>::rotation(xi), xi.head<2>(), pts, nullptr, &disparities);
+    if (!(it == 0 && at_xi)) {
+      model_.disparities(PoseTraits<2>::rotation(xi), xi.head<2>(), pts, nullptr, &disparities);
+    }
     for (std::size_t i = 0; i < pts.size(); ++i) {
       const BeamDisparity& bd = disparities[i];
       if (!bd.inlier) continue;

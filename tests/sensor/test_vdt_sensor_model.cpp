@@ -52,6 +52,29 @@ TEST(ScanPoints, DropsAndCountsInvalidReadingsAndAppliesTheMount) {
   EXPECT_NEAR(pts.directions[1].norm(), 1.0, 1e-12);
 }
 
+TEST(ScanPoints, EvenlySpacedBeamsPointAlongTheirAnglesToRoundOff) {
+  // 1081 beams over 270 degrees (the tables of scan_points split the angle as 32 h + l): every
+  // direction within a few ulp of (cos, sin) of the beam's own angle, explicit angles alike.
+  LaserScan scan;
+  scan.angle_min = -0.75 * M_PI;
+  scan.angle_increment = 1.5 * M_PI / 1080;
+  scan.mount = Pose2(0.1, 0.05, -0.4);
+  scan.ranges.assign(1081, 3.0);
+  const ScanPoints pts = scan_points(scan);
+  ASSERT_EQ(pts.size(), 1081u);
+  LaserScan explicit_angles = scan;
+  for (std::size_t i = 0; i < scan.ranges.size(); ++i)
+    explicit_angles.angles.push_back(scan.angle(i));
+  const ScanPoints ref = scan_points(explicit_angles);
+  double worst = 0.0;
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    const double a = scan.mount[2] + scan.angle(i);
+    worst = std::max(worst, (pts.directions[i] - Eigen::Vector2d(std::cos(a), std::sin(a))).norm());
+    worst = std::max(worst, (pts.points[i] - ref.points[i]).norm() / 3.0);
+  }
+  EXPECT_LT(worst, 2e-15);
+}
+
 class SensorModelTest : public ::testing::Test {
  protected:
   OccupancyGrid<2> occ_ = room();
