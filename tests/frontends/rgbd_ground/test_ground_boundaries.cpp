@@ -1,0 +1,350 @@
+// The RGB-D ground-boundary front end (thesis 3.4.5) on frames rendered here with a known pose —
+// pavement and grass meeting along two known lines, a box standing on the pavement — and on the
+// real Kinect frames of ../shared/data: the boundary points fall on the known boundaries, the
+// box's edges are pruned, the ground plane is recovered from wrong extrinsics, the Jacobian of
+// the back-projection matches finite differences, the per-point covariance is consistent by
+// Monte Carlo, and bad input is refused with the reason.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <string>
+#include <vector>
+
+#include <Eigen/Geometry>
+#include <opencv2/imgcodecs.hpp>
+
+#include "vdtnav/core/error.hpp"
+#include "vdtnav/rgbd_ground/ground_boundaries.hpp"
+
+namespace vdtnav::rgbd_ground {
+namespace {
+
+using uav_camera::CameraCalibration;
+using uav_camera::PinholeCamera;
+
+constexpr double kPi = 3.14159265358979323846;
+
+CameraCalibration test_calibration() {
+  CameraCalibration c;
+  c.width = 640;
+  c.height = 480;
+  c.camera_matrix << 525.0, 0.0, 319.5, 0.0, 525.0, 239.5, 0.0, 0.0, 1.0;
+  c.distortion = {-0.05, 0.01, 0.0, 0.0, 0.0};
+  return c;
+}
+
+/// A rear camera at `height`, 0.3 m behind the robot's origin, looking backwards and `tilt`
+/// radians down (robot frame x forward, y left, z up; camera x right, y down, z forward).
+Eigen::Isometry3d rear_camera(double tilt, double height) {
+  const double c = std::cos(tilt), s = std::sin(tilt);
+  Eigen::Matrix3d r;
+  r.col(0) = Eigen::Vector3d(0.0, 1.0, 0.0);  // image right: robot left when looking back
+  r.col(2) = Eigen::Vector3d(-c, 0.0, -s);    // optical axis: backwards and down
+  r.col(1) = r.col(2).cross(r.col(0));        // image down
+  Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
+  t.linear() = r;
+  t.translation() = Eigen::Vector3d(-0.3, 0.0, height);
+  return t;
+}
+
+// The scene, robot frame: grass where x < -2.5 or y > 1.0, pavement elsewhere; a box on the
+// pavement over [-2.0, -1.6] x [-1.2, -0.6], 0.8 m tall.
+constexpr double kLineX = -2.5, kLineY = 1.0;
+const Eigen::AlignedBox3d kBox(Eigen::Vector3d(-2.0, -1.2, 0.0), Eigen::Vector3d(-1.6, -0.6, 0.8));
+
+/// Distance on the ground to the boundary between the two surfaces.
+double boundary_distance(const Eigen::Vector2d& p) {
+  // Segment x = kLineX for y <= kLineY, segment y = kLineY for x >= kLineX.
+  const double d1 = std::hypot(p.x() - kLineX, std::max(0.0, p.y() - kLineY));
+  const double d2 = std::hypot(std::max(0.0, kLineX - p.x()), p.y() - kLineY);
+  return std::min(d1, d2);
+}
+
+/// Renders colour and z-depth (sigma_z2 z^2 noise when sigma_z2 > 0) of the scene.
+RgbdFrame render(const CameraCalibration& cal, const Eigen::Isometry3d& camera_to_robot,
+                 double sigma_z2, std::mt19937& rng) {
+  const PinholeCamera camera(cal);
+  std::vector<Eigen::Vector2d> px;
+  for (int v = 0; v < cal.height; ++v)
+    for (int u = 0; u < cal.width; ++u) px.emplace_back(u, v);
+  const std::vector<Eigen::Vector2d> rays = camera.undistort(px);
+  cv::Mat colour(cal.height, cal.width, CV_8UC3), depth(cal.height, cal.width, CV_32F);
+  std::normal_distribution<double> n01(0.0, 1.0);
+  const Eigen::Vector3d o = camera_to_robot.translation();
+  for (int v = 0; v < cal.height; ++v) {
+    for (int u = 0; u < cal.width; ++u) {
+      const Eigen::Vector2d& n = rays[static_cast<std::size_t>(v) * cal.width + u];
+      const Eigen::Vector3d ray_c(n.x(), n.y(), 1.0);  // z = 1: the hit's t is its z-depth
+      const Eigen::Vector3d d = camera_to_robot.linear() * ray_c;
+      double t = std::numeric_limits<double>::infinity();
+      cv::Vec3b c(235, 206, 135);  // sky (BGR)
+      if (d.z() < 0.0) {
+        t = -o.z() / d.z();
+        const Eigen::Vector3d g = o + t * d;
+        const bool grass = g.x() < kLineX || g.y() > kLineY;
+        const double tex = 6.0 * n01(rng);
+        c = grass
+                ? cv::Vec3b(cv::saturate_cast<uchar>(50 + tex), cv::saturate_cast<uchar>(140 + tex),
+                            cv::saturate_cast<uchar>(60 + tex))
+                : cv::Vec3b(cv::saturate_cast<uchar>(130 + tex),
+                            cv::saturate_cast<uchar>(128 + tex),
+                            cv::saturate_cast<uchar>(126 + tex));
+      }
+      // The box, by slabs.
+      double t0 = 0.0, t1 = std::numeric_limits<double>::infinity();
+      for (int k = 0; k < 3; ++k) {
+        const double a = (kBox.min()[k] - o[k]) / d[k], b = (kBox.max()[k] - o[k]) / d[k];
+        t0 = std::max(t0, std::min(a, b));
+        t1 = std::min(t1, std::max(a, b));
+      }
+      if (t0 <= t1 && t0 < t) {
+        t = t0;
+        c = cv::Vec3b(40, 40, 200);
+      }
+      colour.at<cv::Vec3b>(v, u) = c;
+      double z = std::isfinite(t) && t < 10.0 ? t : 0.0;
+      if (z > 0.0 && sigma_z2 > 0.0) z += sigma_z2 * z * z * n01(rng);
+      depth.at<float>(v, u) = static_cast<float>(z);
+    }
+  }
+  return make_rgbd_frame(colour, depth, 1.0);
+}
+
+struct Scene {
+  CameraCalibration cal = test_calibration();
+  Eigen::Isometry3d truth = rear_camera(35.0 * kPi / 180.0, 1.0);
+  RgbdFrame frame;
+  Scene() {
+    std::mt19937 rng(1);
+    frame = render(cal, truth, 0.0, rng);
+  }
+};
+const Scene& scene() {
+  static const Scene s;
+  return s;
+}
+
+double percentile(std::vector<double> v, double q) {
+  std::sort(v.begin(), v.end());
+  return v[static_cast<std::size_t>(q * static_cast<double>(v.size() - 1))];
+}
+
+TEST(GroundBoundaries, PointsLieOnTheKnownBoundariesAndTheBoxIsPruned) {
+  const GroundBoundaryExtractor ex(PinholeCamera(scene().cal), scene().truth);
+  const GroundBoundaries b = ex.extract(scene().frame);
+  ASSERT_TRUE(b.plane.found);
+  std::vector<double> dist;
+  int on_x = 0, on_y = 0;
+  for (const BoundaryPoint& p : b.points) {
+    dist.push_back(boundary_distance(p.robot));
+    on_x += std::abs(p.robot.x() - kLineX) < 0.05 && p.robot.y() < kLineY - 0.1;
+    on_y += std::abs(p.robot.y() - kLineY) < 0.05 && p.robot.x() > kLineX + 0.1;
+    // Nothing kept on or beside the box.
+    EXPECT_FALSE(p.robot.x() > -2.1 && p.robot.x() < -1.5 && p.robot.y() > -1.3 &&
+                 p.robot.y() < -0.5)
+        << p.robot.transpose();
+  }
+  ASSERT_GT(dist.size(), 200u);
+  EXPECT_GT(on_x, 80);  // both boundaries are seen
+  EXPECT_GT(on_y, 80);
+  // Canny on a blurred image places an edge within a pixel: ~1-2 cm on the ground at 2-4 m.
+  EXPECT_LT(percentile(dist, 0.5), 0.015);
+  EXPECT_LT(percentile(dist, 0.95), 0.04);
+  EXPECT_GT(b.pruned, 100);  // the box's outline against pavement and sky
+}
+
+TEST(GroundBoundaries, ThePlaneComesFromTheDepthNotFromWrongExtrinsics) {
+  // Extrinsics off by 3 degrees of tilt and 5 cm of height.
+  const Eigen::Isometry3d wrong = rear_camera(38.0 * kPi / 180.0, 1.05);
+  const GroundBoundaryExtractor ex(PinholeCamera(scene().cal), wrong);
+  const GroundBoundaries b = ex.extract(scene().frame);
+  ASSERT_TRUE(b.plane.found);
+  const GroundPlane truth = expected_ground_plane(scene().truth);
+  EXPECT_LT(std::acos(std::min(1.0, b.plane.normal.dot(truth.normal))), 0.5 * kPi / 180.0);
+  EXPECT_NEAR(b.plane.offset, truth.offset, 0.01);
+  std::vector<double> dist;
+  for (const BoundaryPoint& p : b.points) dist.push_back(boundary_distance(p.robot));
+  ASSERT_GT(dist.size(), 200u);
+  EXPECT_LT(percentile(dist, 0.5), 0.015);
+  // The nominal extrinsics would put the same pixels ~10-20 cm off.
+  const GroundBoundaryExtractor nominal(PinholeCamera(scene().cal), wrong);
+  std::vector<double> off;
+  for (const BoundaryPoint& p : b.points) {
+    off.push_back(boundary_distance(
+        nominal.back_project(p.pixel.cast<double>(), p.camera.z(), wrong, nullptr)));
+  }
+  EXPECT_GT(percentile(off, 0.5), 0.05);
+}
+
+TEST(GroundBoundaries, BackProjectionJacobianMatchesFiniteDifferences) {
+  const GroundBoundaryExtractor ex(PinholeCamera(scene().cal), scene().truth);
+  for (const auto& [u, v, z] : {std::tuple{100.0, 400.0, 2.2}, std::tuple{600.0, 300.0, 3.7},
+                                std::tuple{320.0, 240.0, 2.9}}) {
+    Eigen::Matrix<double, 2, 3> j;
+    (void)ex.back_project({u, v}, z, scene().truth, &j);
+    const double h[3] = {1e-3, 1e-3, 1e-6};
+    for (int k = 0; k < 3; ++k) {
+      Eigen::Vector3d a(u, v, z), b(u, v, z);
+      a[k] += h[k];
+      b[k] -= h[k];
+      const Eigen::Vector2d fd = (ex.back_project(a.head<2>(), a.z(), scene().truth, nullptr) -
+                                  ex.back_project(b.head<2>(), b.z(), scene().truth, nullptr)) /
+                                 (2.0 * h[k]);
+      EXPECT_LT((j.col(k) - fd).norm(), 1e-6 * std::max(1.0, fd.norm())) << "column " << k;
+    }
+  }
+}
+
+TEST(GroundBoundaries, PointCovarianceIsConsistentByMonteCarlo) {
+  // Pixel and depth noise drawn as the model says, pushed through the back-projection: the NEES
+  // of the resulting points under the reported covariance has mean 2 (chi-square, 2 dof); over
+  // 20 points x 500 draws the 99 % interval of the mean is about [1.94, 2.06] when linear.
+  const GroundBoundaryExtractor ex(PinholeCamera(scene().cal), scene().truth);
+  const GroundBoundaries b = ex.extract(scene().frame);
+  ASSERT_GT(b.points.size(), 20u);
+  const DepthNoiseModel& noise = ex.options().noise;
+  std::mt19937 rng(3);
+  std::normal_distribution<double> n01(0.0, 1.0);
+  double nees = 0.0;
+  int count = 0;
+  for (std::size_t i = 0; i < b.points.size(); i += b.points.size() / 20) {
+    const BoundaryPoint& p = b.points[i];
+    const double z = p.camera.z();
+    const Eigen::Vector2d mean = ex.back_project(p.pixel.cast<double>(), z, scene().truth, nullptr);
+    const Eigen::Matrix2d info = p.covariance.inverse();
+    for (int d = 0; d < 500; ++d) {
+      const Eigen::Vector2d px =
+          p.pixel.cast<double>() + noise.sigma_pixel * Eigen::Vector2d(n01(rng), n01(rng));
+      const double zz = z + noise.sigma_z(z) * n01(rng);
+      const Eigen::Vector2d e = ex.back_project(px, zz, scene().truth, nullptr) - mean;
+      nees += e.dot(info * e);
+      ++count;
+    }
+  }
+  nees /= count;
+  EXPECT_GT(nees, 1.9);
+  EXPECT_LT(nees, 2.1);
+}
+
+TEST(GroundBoundaries, BadInputIsRefusedWithTheReason) {
+  const cv::Mat colour(480, 640, CV_8UC3, cv::Scalar(100, 100, 100));
+  const cv::Mat depth(480, 640, CV_16U, cv::Scalar(2000));
+  // Sizes differ.
+  try {
+    (void)make_rgbd_frame(colour, cv::Mat(240, 320, CV_16U, cv::Scalar(2000)), 1000.0);
+    ADD_FAILURE() << "no error";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("differ in size"), std::string::npos) << e.what();
+  }
+  // All-zero depth.
+  try {
+    (void)make_rgbd_frame(colour, cv::Mat(480, 640, CV_16U, cv::Scalar(0)), 1000.0);
+    ADD_FAILURE() << "no error";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("all zero"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW((void)make_rgbd_frame(colour, depth, 0.0), ConfigError);  // no depth scale
+  EXPECT_THROW((void)make_rgbd_frame(colour, cv::Mat(480, 640, CV_8U, cv::Scalar(5)), 1.0),
+               ConfigError);  // 8-bit depth
+  // Files: missing, and a colour image given as depth.
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / "vdtnav_rgbd_test";
+  std::filesystem::create_directories(dir);
+  const std::string c = (dir / "c.png").string(), d = (dir / "d.png").string();
+  cv::imwrite(c, colour);
+  cv::imwrite(d, depth);
+  EXPECT_NO_THROW((void)read_rgbd_frame(c, d, 1000.0));
+  EXPECT_THROW((void)read_rgbd_frame(c, (dir / "missing.png").string(), 1000.0), IoError);
+  try {
+    (void)read_rgbd_frame(c, c, 1000.0);
+    ADD_FAILURE() << "no error";
+  } catch (const FormatError& e) {
+    EXPECT_EQ(e.file(), c);
+  }
+  // Missing intrinsics.
+  EXPECT_THROW((void)uav_camera::read_calibration((dir / "no_such_camera.yaml").string()), IoError);
+  // A frame of another size than the camera's.
+  const GroundBoundaryExtractor ex(PinholeCamera(scene().cal), scene().truth);
+  EXPECT_THROW(
+      (void)ex.extract(make_rgbd_frame(cv::Mat(240, 320, CV_8UC3, cv::Scalar(1, 2, 3)),
+                                       cv::Mat(240, 320, CV_16U, cv::Scalar(900)), 1000.0)),
+      ConfigError);
+}
+
+/// Camera-to-world poses of a pose.txt (tx ty tz qx qy qz qw, Hamilton, scalar last).
+std::vector<Eigen::Isometry3d> read_poses(const std::string& path) {
+  std::ifstream in(path);
+  std::vector<Eigen::Isometry3d> out;
+  double tx, ty, tz, qx, qy, qz, qw;
+  while (in >> tx >> ty >> tz >> qx >> qy >> qz >> qw) {
+    Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
+    t.linear() = Eigen::Quaterniond(qw, qx, qy, qz).normalized().toRotationMatrix();
+    t.translation() = Eigen::Vector3d(tx, ty, tz);
+    out.push_back(t);
+  }
+  return out;
+}
+
+TEST(GroundBoundaries, RealKinectFramesGiveOneFloorThroughTheGivenPoses) {
+  const std::string dir = std::string(VDTNAV_DATA_DIR) + "/vision/rgbd-kinect";
+  if (!std::filesystem::exists(dir + "/pose.txt")) GTEST_SKIP() << "real data absent: " << dir;
+  CameraCalibration cal;
+  cal.width = 640;
+  cal.height = 480;
+  cal.camera_matrix << 518.0, 0.0, 325.5, 0.0, 519.0, 253.5, 0.0, 0.0, 1.0;
+  const std::vector<Eigen::Isometry3d> poses = read_poses(dir + "/pose.txt");
+  ASSERT_EQ(poses.size(), 5u);
+  // Nominal mounting: a hand-held camera ~1.4 m up, looking forward and ~25 degrees down; the
+  // fit may move it by up to 0.6 rad and 0.4 m.
+  const double tilt = 25.0 * kPi / 180.0;
+  Eigen::Matrix3d r;
+  r.col(0) = Eigen::Vector3d(0.0, -1.0, 0.0);
+  r.col(2) = Eigen::Vector3d(std::cos(tilt), 0.0, -std::sin(tilt));
+  r.col(1) = r.col(2).cross(r.col(0));
+  Eigen::Isometry3d nominal = Eigen::Isometry3d::Identity();
+  nominal.linear() = r;
+  nominal.translation() = Eigen::Vector3d(0.0, 0.0, 1.4);
+  GroundBoundaryOptions o;
+  o.plane.max_tilt = 0.6;
+  o.use_lightness = true;  // indoors, a carpet's edges are edges of lightness too
+  const GroundBoundaryExtractor ex(PinholeCamera(cal), nominal, o);
+  std::vector<Eigen::Vector3d> normals;
+  std::vector<double> offsets;
+  for (int i = 1; i <= 5; ++i) {
+    const RgbdFrame f = read_rgbd_frame(dir + "/color/" + std::to_string(i) + ".png",
+                                        dir + "/depth/" + std::to_string(i) + ".pgm", 1000.0);
+    const GroundBoundaries b = ex.extract(f);
+    ASSERT_TRUE(b.plane.found) << "frame " << i;
+    EXPECT_GT(b.plane.inliers, 1000) << "frame " << i;  // the floor fills a third of the image
+    EXPECT_GT(b.points.size(), 20u) << "frame " << i;   // floor boundaries kept
+    EXPECT_GT(b.pruned, 0) << "frame " << i;            // chair and table legs pruned
+    // The floor in the world: n_w = R n_c, offset_w = offset - n_w . t.
+    const Eigen::Vector3d n = poses[static_cast<std::size_t>(i - 1)].linear() * b.plane.normal;
+    normals.push_back(n);
+    offsets.push_back(b.plane.offset - n.dot(poses[static_cast<std::size_t>(i - 1)].translation()));
+    std::printf(
+        "frame %d: height %.3f m, rms %.3f m, %d inliers, %zu points, %d pruned, world "
+        "normal (%.3f %.3f %.3f) offset %.3f\n",
+        i, b.plane.offset, b.plane.rms, b.plane.inliers, b.points.size(), b.pruned, n.x(), n.y(),
+        n.z(), offsets.back());
+  }
+  // One floor: against the frames' median (the poses are a reference with centimetres of error:
+  // the README measures 3-10 cm of depth disagreement between frames warped through them). A
+  // table top or a wall taken for the floor is 20+ degrees or 0.25+ m off.
+  Eigen::Vector3d mean_normal = Eigen::Vector3d::Zero();
+  for (const Eigen::Vector3d& n : normals) mean_normal += n;
+  mean_normal.normalize();
+  std::vector<double> sorted = offsets;
+  std::sort(sorted.begin(), sorted.end());
+  const double median = sorted[sorted.size() / 2];
+  for (std::size_t i = 0; i < normals.size(); ++i) {
+    EXPECT_LT(std::acos(std::min(1.0, normals[i].dot(mean_normal))), 3.0 * kPi / 180.0) << i;
+    EXPECT_NEAR(offsets[i], median, 0.06) << i;
+  }
+}
+
+}  // namespace
+}  // namespace vdtnav::rgbd_ground
