@@ -12,6 +12,7 @@
 
 #include "../bench_counters.hpp"
 #include "vdtnav/estimation/vdt_ekf.hpp"
+#include "vdtnav/rgbd_ground/camera_mount.hpp"
 #include "vdtnav/rgbd_ground/ground_boundaries.hpp"
 #include "vdtnav/sim/floor_plan.hpp"
 #include "vdtnav/sim/ray_casting.hpp"
@@ -30,14 +31,8 @@ void BM_RgbdBoundaries(benchmark::State& state) {
   cal.height = 480;
   cal.camera_matrix << 518.0, 0.0, 325.5, 0.0, 519.0, 253.5, 0.0, 0.0, 1.0;
   // A hand-held camera ~1.4 m up, looking forward and ~25 degrees down (as the tests).
-  const double tilt = 25.0 * M_PI / 180.0;
-  Eigen::Matrix3d r;
-  r.col(0) = Eigen::Vector3d(0.0, -1.0, 0.0);
-  r.col(2) = Eigen::Vector3d(std::cos(tilt), 0.0, -std::sin(tilt));
-  r.col(1) = r.col(2).cross(r.col(0));
-  Eigen::Isometry3d nominal = Eigen::Isometry3d::Identity();
-  nominal.linear() = r;
-  nominal.translation() = Eigen::Vector3d(0.0, 0.0, 1.4);
+  const Eigen::Isometry3d nominal =
+      rgbd_ground::tilted_camera(Eigen::Vector3d(0.0, 0.0, 1.4), 0.0, 25.0 * M_PI / 180.0);
   rgbd_ground::GroundBoundaryOptions o;
   o.plane.max_tilt = 0.6;
   const rgbd_ground::GroundBoundaryExtractor ex(uav_camera::PinholeCamera(cal), nominal, o);

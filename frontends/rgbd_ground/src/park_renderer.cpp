@@ -1,5 +1,7 @@
 #include "vdtnav/rgbd_ground/park_renderer.hpp"
 
+#include "vdtnav/rgbd_ground/camera_mount.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -73,15 +75,8 @@ uav_camera::CameraCalibration default_rgbd_calibration() {
 }
 
 Eigen::Isometry3d default_rear_camera() {
-  const double tilt = 35.0 * 3.14159265358979323846 / 180.0;
-  Eigen::Matrix3d r;
-  r.col(0) = Eigen::Vector3d(0.0, 1.0, 0.0);                          // image right
-  r.col(2) = Eigen::Vector3d(-std::cos(tilt), 0.0, -std::sin(tilt));  // optical axis
-  r.col(1) = r.col(2).cross(r.col(0));                                // image down
-  Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
-  t.linear() = r;
-  t.translation() = Eigen::Vector3d(-0.4, 0.0, 1.0);
-  return t;
+  return tilted_camera(Eigen::Vector3d(-0.4, 0.0, 1.0), 3.14159265358979323846,
+                       35.0 * 3.14159265358979323846 / 180.0);
 }
 
 ParkRenderer::ParkRenderer(const ParkScene& scene, uav_camera::CameraCalibration calibration,

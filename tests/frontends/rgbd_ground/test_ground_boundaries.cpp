@@ -18,6 +18,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "vdtnav/core/error.hpp"
+#include "vdtnav/rgbd_ground/camera_mount.hpp"
 #include "vdtnav/rgbd_ground/ground_boundaries.hpp"
 
 namespace vdtnav::rgbd_ground {
@@ -40,15 +41,7 @@ CameraCalibration test_calibration() {
 /// A rear camera at `height`, 0.3 m behind the robot's origin, looking backwards and `tilt`
 /// radians down (robot frame x forward, y left, z up; camera x right, y down, z forward).
 Eigen::Isometry3d rear_camera(double tilt, double height) {
-  const double c = std::cos(tilt), s = std::sin(tilt);
-  Eigen::Matrix3d r;
-  r.col(0) = Eigen::Vector3d(0.0, 1.0, 0.0);  // image right: robot left when looking back
-  r.col(2) = Eigen::Vector3d(-c, 0.0, -s);    // optical axis: backwards and down
-  r.col(1) = r.col(2).cross(r.col(0));        // image down
-  Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
-  t.linear() = r;
-  t.translation() = Eigen::Vector3d(-0.3, 0.0, height);
-  return t;
+  return tilted_camera(Eigen::Vector3d(-0.3, 0.0, height), kPi, tilt);
 }
 
 // The scene, robot frame: grass where x < -2.5 or y > 1.0, pavement elsewhere; a box on the
@@ -299,14 +292,8 @@ TEST(GroundBoundaries, RealKinectFramesGiveOneFloorThroughTheGivenPoses) {
   ASSERT_EQ(poses.size(), 5u);
   // Nominal mounting: a hand-held camera ~1.4 m up, looking forward and ~25 degrees down; the
   // fit may move it by up to 0.6 rad and 0.4 m.
-  const double tilt = 25.0 * kPi / 180.0;
-  Eigen::Matrix3d r;
-  r.col(0) = Eigen::Vector3d(0.0, -1.0, 0.0);
-  r.col(2) = Eigen::Vector3d(std::cos(tilt), 0.0, -std::sin(tilt));
-  r.col(1) = r.col(2).cross(r.col(0));
-  Eigen::Isometry3d nominal = Eigen::Isometry3d::Identity();
-  nominal.linear() = r;
-  nominal.translation() = Eigen::Vector3d(0.0, 0.0, 1.4);
+  const Eigen::Isometry3d nominal =
+      tilted_camera(Eigen::Vector3d(0.0, 0.0, 1.4), 0.0, 25.0 * kPi / 180.0);
   GroundBoundaryOptions o;
   o.plane.max_tilt = 0.6;
   o.use_lightness = true;  // indoors, a carpet's edges are edges of lightness too
