@@ -150,6 +150,7 @@ int main(int argc, char** argv) {
     std::mt19937 rng(static_cast<std::uint32_t>(seed * 7919 + 17));
     RenderOptions ro = RenderOptions::localization_day();
     DetectionOptions det;
+    BearingUpdateOptions bearing_options;
     double front_ms = 0.0;
     const std::size_t shown = n / 3;
     cv::Mat shown_colour;
@@ -180,13 +181,13 @@ int main(int argc, char** argv) {
       });
       timed(traces[1], [&] {
         (void)fused.update(step, obs);
-        (void)fused.update_bearings(z, landmarks);
+        (void)fused.update_bearings(z, landmarks, bearing_options);
         traces[1].estimate.push_back(fused.pose());
-        traces[1].covariance.push_back(fused.covariance());
+        traces[1].covariance.push_back(fused.reported_covariance());
       });
       timed(traces[2], [&] {
         if (k > 0) ekf_predict(eo.motion, eo.noise, step, landmark_x, landmark_p);
-        (void)ekf_bearing_update(z, landmarks, BearingUpdateOptions{}, landmark_x, landmark_p);
+        (void)ekf_bearing_update(z, landmarks, bearing_options, landmark_x, landmark_p);
         traces[2].estimate.push_back(landmark_x);
         traces[2].covariance.push_back(landmark_p);
       });
@@ -200,7 +201,10 @@ int main(int argc, char** argv) {
                     z.size());
         for (const Trace& t : traces) {
           const Eigen::Vector3d e = pose_error(t.estimate[k], truth);
-          std::printf(" | %s %.3f m %.4f rad", t.name.c_str(), e.head<2>().norm(), e[2]);
+          std::printf(" | %s (%.3f %.3f %.4f) 2sd (%.3f %.3f %.4f)", t.name.c_str(), e[0], e[1],
+                      e[2], 2.0 * std::sqrt(t.covariance[k](0, 0)),
+                      2.0 * std::sqrt(t.covariance[k](1, 1)),
+                      2.0 * std::sqrt(t.covariance[k](2, 2)));
         }
         std::printf("\n");
       }

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <limits>
+#include <vector>
 
 #include <Eigen/Cholesky>
 #include <Eigen/Geometry>
@@ -33,8 +34,12 @@ BearingUpdateResult ekf_bearing_update(const std::vector<BearingDetection>& dete
   VDTNAV_CHECK(options.gate > 0.0, "bearing update: the gate must be > 0");
   BearingUpdateResult out;
   out.landmark.assign(detections.size(), -1);
-  Eigen::Matrix3d info = Eigen::Matrix3d::Zero();
-  Eigen::Vector3d b = Eigen::Vector3d::Zero();
+  struct Candidate {
+    double mahalanobis = std::numeric_limits<double>::infinity();
+    Eigen::RowVector3d h = Eigen::RowVector3d::Zero();
+    double nu = 0.0;
+  };
+  std::vector<Candidate> chosen(detections.size());
   const Eigen::Vector2d sensor = x.head<2>() + Eigen::Rotation2Dd(x[2]) * options.sensor_offset;
   for (std::size_t k = 0; k < detections.size(); ++k) {
     const BearingDetection& z = detections[k];
@@ -61,13 +66,35 @@ BearingUpdateResult ekf_bearing_update(const std::vector<BearingDetection>& dete
     }
     if (!(best <= options.gate)) {
       out.landmark[k] = -1;
+      continue;
+    }
+    chosen[k] = {best, best_h, best_nu};
+  }
+  // One detection per landmark and frame: when several claim one landmark, the closest in the
+  // Mahalanobis sense keeps it (the others are false positives beside a true detection).
+  for (std::size_t k = 0; k < detections.size(); ++k) {
+    if (out.landmark[k] < 0) continue;
+    for (std::size_t j = 0; j < detections.size(); ++j) {
+      if (j != k && out.landmark[j] == out.landmark[k] &&
+          (chosen[j].mahalanobis < chosen[k].mahalanobis ||
+           (chosen[j].mahalanobis == chosen[k].mahalanobis && j < k))) {
+        out.landmark[k] = -2;  // marked; cleared below so that the comparisons above stay valid
+        break;
+      }
+    }
+  }
+  Eigen::Matrix3d info = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d b = Eigen::Vector3d::Zero();
+  for (std::size_t k = 0; k < detections.size(); ++k) {
+    if (out.landmark[k] < 0) {
+      out.landmark[k] = -1;
       ++out.rejected;
       continue;
     }
     ++out.accepted;
-    const double w = 1.0 / (z.sigma * z.sigma);
-    info.noalias() += w * best_h.transpose() * best_h;
-    b.noalias() += (w * best_nu) * best_h.transpose();
+    const double w = 1.0 / (detections[k].sigma * detections[k].sigma);
+    info.noalias() += w * chosen[k].h.transpose() * chosen[k].h;
+    b.noalias() += (w * chosen[k].nu) * chosen[k].h.transpose();
   }
   if (out.accepted == 0) return out;
   // Information form of the batch update (vdt_ekf.hpp): P+ = (P^-1 + H^T R^-1 H)^-1.

@@ -67,6 +67,7 @@ VdtEkfLocalizer::VdtEkfLocalizer(const VdtMap2& map, const VdtEkfOptions& option
 void VdtEkfLocalizer::reset(const Pose2& pose, const Eigen::Matrix3d& covariance) {
   x_ = pose;
   p_ = covariance;
+  map_term_.setZero();
 }
 
 LocalizationResult VdtEkfLocalizer::update(const OdometryStep& odometry, const ScanPoints& pts) {
@@ -115,6 +116,11 @@ LocalizationResult VdtEkfLocalizer::update(const OdometryStep& odometry, const S
   // separation wrong by several sigma on rendered frames.
   const int k = pts.num_shared();
   const bool point_cov = !pts.point_covariances.empty();
+  // Reading i's disparity covariance (point covariances: a camera's; else the range's).
+  const auto noise_of = [&](const BeamDisparity& bd, std::size_t i) {
+    return point_cov ? model_.disparity_covariance_point(bd, pts.point_covariances[i])
+                     : model_.disparity_covariance(bd, pts.sigma_range);
+  };
   const Eigen::Matrix3d prior_info = p_.inverse();
   Eigen::Matrix3d info = prior_info;
   Eigen::Matrix<double, 3, Eigen::Dynamic, 0, 3, ScanPoints::kMaxShared> cross(3, k);
@@ -132,10 +138,7 @@ LocalizationResult VdtEkfLocalizer::update(const OdometryStep& odometry, const S
       const BeamDisparity& bd = disparities[i];
       if (!bd.inlier) continue;
       ++used;
-      const Eigen::Matrix2d r_inv =
-          (point_cov ? model_.disparity_covariance_point(bd, pts.point_covariances[i])
-                     : model_.disparity_covariance(bd, pts.sigma_range))
-              .inverse();
+      const Eigen::Matrix2d r_inv = noise_of(bd, i).inverse();
       const Eigen::Matrix<double, 3, 2> htri = bd.d_pose.transpose() * r_inv;
       info.noalias() += htri * bd.d_pose;
       b.noalias() -= htri * bd.d;  // (3.12) corrected: innovation -d, the expected disparity is 0
@@ -179,10 +182,7 @@ LocalizationResult VdtEkfLocalizer::update(const OdometryStep& odometry, const S
       for (std::size_t i = 0; i < pts.size(); ++i) {
         const BeamDisparity& bd = disparities[i];
         if (!bd.inlier) continue;
-        const Eigen::Matrix2d r_inv =
-            (point_cov ? model_.disparity_covariance_point(bd, pts.point_covariances[i])
-                       : model_.disparity_covariance(bd, pts.sigma_range))
-                .inverse();
+        const Eigen::Matrix2d r_inv = noise_of(bd, i).inverse();
         const Eigen::Vector2d world = rot * pts.points[i] + xi.head<2>();
         auto [it, fresh] = groups.try_emplace(model_.map_error_group(world));
         if (fresh) it->second.setZero();
@@ -199,11 +199,15 @@ LocalizationResult VdtEkfLocalizer::update(const OdometryStep& odometry, const S
         map_term.noalias() += s2 * sens * sens.transpose();
       }
     }
-    result.covariance = p_ + 0.5 * (map_term + map_term.transpose());
+    map_term_ = 0.5 * (map_term + map_term.transpose());
+    result.covariance = p_ + map_term_;
     result.status = LocalizationStatus::kConverged;
   }
   result.pose = x_;
-  if (result.status != LocalizationStatus::kConverged) result.covariance = p_;
+  if (result.status != LocalizationStatus::kConverged) {
+    map_term_.setZero();
+    result.covariance = p_;
+  }
   result.has_covariance = true;
   return result;
 }
@@ -211,7 +215,20 @@ LocalizationResult VdtEkfLocalizer::update(const OdometryStep& odometry, const S
 BearingUpdateResult VdtEkfLocalizer::update_bearings(
     const std::vector<BearingDetection>& detections, const std::vector<Landmark2>& landmarks,
     const BearingUpdateOptions& options) {
-  return ekf_bearing_update(detections, landmarks, options, x_, p_);
+  // A bearing measures the pose in the world, whose error includes the map's share M: gate and
+  // update with P + M, then split the result. With A = I - K H = (P + M)+ (P + M)^-1 (information
+  // form), (P + M)+ = A P A^T + K R K^T + A M A^T: the map's share becomes A M A^T, the rest is
+  // the filter's.
+  const Eigen::Matrix3d prior = p_ + map_term_;
+  Eigen::Matrix3d total = prior;
+  const BearingUpdateResult r = ekf_bearing_update(detections, landmarks, options, x_, total);
+  if (r.accepted == 0) return r;
+  const Eigen::Matrix3d a = total * prior.inverse();
+  map_term_ = a * map_term_ * a.transpose();
+  map_term_ = 0.5 * (map_term_ + map_term_.transpose());
+  p_ = total - map_term_;
+  p_ = 0.5 * (p_ + p_.transpose());
+  return r;
 }
 
 }  // namespace vdtnav

@@ -124,6 +124,30 @@ TEST(BearingUpdate, AssociatesWithinAClassAndGatesFalseDetections) {
   EXPECT_THROW((void)ekf_bearing_update(z, park_landmarks(), o, xu, p), ConfigError);
 }
 
+TEST(BearingUpdate, ALandmarkIsUsedOncePerFrameByItsNearestDetection) {
+  // A true detection of landmark 1 and a false one 0.03 rad beside it (inside the gate): the
+  // update must equal the one with the true detection alone, whichever comes first.
+  const Pose2 x(0.05, -0.03, 0.02);
+  const Eigen::Matrix3d p0 = Eigen::Vector3d(0.01, 0.01, 0.001).asDiagonal();
+  const BearingUpdateOptions o;
+  const double b =
+      predicted_bearing(Pose2::Zero(), park_landmarks()[1].position, o.sensor_offset, nullptr);
+  const BearingDetection good{b, 0.02, 0}, beside{b + 0.03, 0.02, 0};
+  Pose2 x1 = x;
+  Eigen::Matrix3d p1 = p0;
+  (void)ekf_bearing_update({good}, park_landmarks(), o, x1, p1);
+  for (const auto& z :
+       {std::vector<BearingDetection>{good, beside}, std::vector<BearingDetection>{beside, good}}) {
+    Pose2 x2 = x;
+    Eigen::Matrix3d p2 = p0;
+    const BearingUpdateResult r = ekf_bearing_update(z, park_landmarks(), o, x2, p2);
+    EXPECT_EQ(r.accepted, 1);
+    EXPECT_EQ(r.rejected, 1);
+    EXPECT_LT((x2 - x1).norm(), 1e-12);
+    EXPECT_LT((p2 - p1).norm(), 1e-15);
+  }
+}
+
 TEST(BearingUpdate, TheUpdatedCovarianceIsConsistentByMonteCarlo) {
   // Prior and bearings drawn from their distributions: the NEES of the updated estimate has mean
   // 3 (chi-square, 3 dof); over 2000 trials its 99 % interval is [2.86, 3.14] for a linear model,

@@ -198,6 +198,65 @@ TEST(VdtEkfUpdate, MapErrorsSharedPerSquareAreReported) {
   EXPECT_GT(anees(0.0), 3.0 * 3.0);
 }
 
+TEST(VdtEkfUpdate, TheMapTermFollowsTheEstimateThroughBearingCorrections) {
+  // As above (map errors shared per 2 m square), then bearings to four landmarks correct the
+  // estimate: the map's share of the error is carried through the correction, (I - K H) M
+  // (I - K H)^T, so reported_covariance() stays consistent, where the filter's covariance alone
+  // (without the map term) is too small and the map term left as it was is too large.
+  const Pose2 truth = test::tour_pose(7);
+  const double length = 2.0, pose_sigma = 0.02, sigma_b = 0.002;
+  VdtEkfOptions o = classic_ekf_options();
+  o.max_iterations = 10;
+  o.sensor.map_correlation_length = length;
+  o.sensor.map_pose_sigma = pose_sigma;
+  const double sigma_c =
+      std::sqrt(test::world().map.resolution() * test::world().map.resolution() / 12.0 +
+                pose_sigma * pose_sigma);
+  std::vector<Landmark2> landmarks;
+  for (int k = 0; k < 4; ++k) {
+    const double a = 0.3 + 1.5 * k;
+    landmarks.push_back({truth.head<2>() + 4.0 * Eigen::Vector2d(std::cos(a), std::sin(a)), 0});
+  }
+  std::mt19937 rng(79);
+  std::normal_distribution<double> n01(0.0, 1.0);
+  const Eigen::Rotation2Dd rot(truth[2]);
+  std::vector<double> reported, filter_only, map_unchanged;
+  int accepted = 0;
+  for (int k = 0; k < 300; ++k) {
+    ScanPoints scan = scan_points(test::simulate_scan(truth, 0.02, rng, 361));
+    std::map<std::pair<long, long>, Eigen::Vector2d> shift;
+    for (Eigen::Vector2d& p : scan.points) {
+      const Eigen::Vector2d w = rot * p + truth.head<2>();
+      const std::pair<long, long> key(static_cast<long>(std::floor(w.x() / length)),
+                                      static_cast<long>(std::floor(w.y() / length)));
+      auto [it, fresh] = shift.try_emplace(key);
+      if (fresh) it->second = sigma_c * Eigen::Vector2d(n01(rng), n01(rng));
+      p += rot.inverse() * it->second;
+    }
+    VdtEkfLocalizer ekf(test::world().map, o);
+    ekf.reset(truth + Pose2(0.01, -0.01, 0.005), Eigen::Vector3d(1.0, 1.0, 0.09).asDiagonal());
+    const LocalizationResult r = ekf.update(standing_still(), scan);
+    ASSERT_EQ(r.status, LocalizationStatus::kConverged);
+    const Eigen::Matrix3d m0 = r.covariance - ekf.covariance();
+    std::vector<BearingDetection> z;
+    for (const Landmark2& l : landmarks) {
+      z.push_back({predicted_bearing(truth, l.position, Eigen::Vector2d::Zero(), nullptr) +
+                       sigma_b * n01(rng),
+                   sigma_b, 0});
+    }
+    accepted += ekf.update_bearings(z, landmarks).accepted;
+    reported.push_back(eval::nees(ekf.pose(), truth, ekf.reported_covariance()));
+    filter_only.push_back(eval::nees(ekf.pose(), truth, ekf.covariance()));
+    map_unchanged.push_back(eval::nees(ekf.pose(), truth, ekf.covariance() + m0));
+  }
+  EXPECT_GT(accepted, 0.95 * 4 * 300);  // the 99 % gate drops a few
+  const double on = eval::anees(reported, 3, 0.99).anees;
+  EXPECT_GT(on, 3.0 / 1.5);
+  EXPECT_LT(on, 3.0 * 1.5);
+  EXPECT_GT(eval::anees(filter_only, 3, 0.99).anees, 3.0 * 1.5);
+  EXPECT_LT(eval::anees(map_unchanged, 3, 0.99).anees, 3.0 / 1.5);
+}
+
 TEST(EkfPredict, VelocityModelIsThesisEquationsAndItsJacobianIsExact) {
   MotionNoise noise;
   noise.floor_xy_rate = noise.floor_yaw_rate = 0.0;  // (3.8) alone

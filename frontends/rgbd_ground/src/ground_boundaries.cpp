@@ -3,8 +3,11 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
+#include <unordered_map>
 #include <utility>
 
+#include <Eigen/Eigenvalues>
 #include <Eigen/LU>
 #include <opencv2/imgproc.hpp>
 
@@ -23,6 +26,8 @@ GroundBoundaryExtractor::GroundBoundaryExtractor(uav_camera::PinholeCamera camer
                "RGB-D boundaries: blur_sigma >= 0 and 0 <= canny_low <= canny_high expected");
   VDTNAV_CHECK(options.prune_floor > 0.0 && options.clearance >= 0.0,
                "RGB-D boundaries: prune_floor > 0 and clearance >= 0 expected");
+  VDTNAV_CHECK(options.aperture_radius > 0.0 && options.aperture_sigma >= 0.0,
+               "RGB-D boundaries: aperture_radius > 0 and aperture_sigma >= 0 expected");
   VDTNAV_CHECK(
       options.noise.sigma_pixel > 0.0 && options.noise.sigma_z0 + options.noise.sigma_z2 > 0.0,
       "RGB-D boundaries: the noise model needs sigma_pixel > 0 and a depth noise > 0");
@@ -139,13 +144,60 @@ GroundBoundaries GroundBoundaryExtractor::extract(const RgbdFrame& frame) const 
       out.points.push_back(p);
     }
   }
+  estimate_edge_tangents(out.points, options_.aperture_radius);
   return out;
 }
 
-ScanPoints GroundBoundaryExtractor::observations(const GroundBoundaries& boundaries) {
+void estimate_edge_tangents(std::vector<BoundaryPoint>& points, double radius) {
+  VDTNAV_CHECK(radius > 0.0, "edge tangents: the radius must be > 0");
+  // Points hashed into square buckets of side `radius`: a neighbourhood is 3 x 3 buckets.
+  const auto cell = [radius](double v) {
+    return static_cast<std::int64_t>(std::floor(v / radius));
+  };
+  const auto key = [](std::int64_t x, std::int64_t y) { return x * 2000003 + y; };
+  std::unordered_map<std::int64_t, std::vector<std::size_t>> buckets;
+  buckets.reserve(points.size());
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    buckets[key(cell(points[i].robot.x()), cell(points[i].robot.y()))].push_back(i);
+  }
+  const double r2 = radius * radius;
+  for (BoundaryPoint& p : points) {
+    const std::int64_t bx = cell(p.robot.x()), by = cell(p.robot.y());
+    Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+    Eigen::Matrix2d scatter = Eigen::Matrix2d::Zero();
+    int n = 0;
+    for (std::int64_t dx = -1; dx <= 1; ++dx) {
+      for (std::int64_t dy = -1; dy <= 1; ++dy) {
+        const auto it = buckets.find(key(bx + dx, by + dy));
+        if (it == buckets.end()) continue;
+        for (const std::size_t j : it->second) {
+          const Eigen::Vector2d d = points[j].robot - p.robot;
+          if (d.squaredNorm() > r2) continue;
+          mean += d;
+          scatter.noalias() += d * d.transpose();
+          ++n;
+        }
+      }
+    }
+    if (n < 4) {
+      p.straightness = 0.0;
+      continue;
+    }
+    mean /= n;
+    scatter = scatter / n - mean * mean.transpose();
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig(scatter);
+    const double l1 = eig.eigenvalues()[1], l2 = std::max(0.0, eig.eigenvalues()[0]);
+    p.tangent = eig.eigenvectors().col(1).normalized();
+    p.straightness = l1 > 0.0 ? (l1 - l2) / (l1 + l2) : 0.0;
+  }
+}
+
+ScanPoints GroundBoundaryExtractor::observations(const GroundBoundaries& boundaries) const {
   ScanPoints s;
   for (std::size_t i = 0; i < boundaries.points.size(); ++i) {
-    s.add_point(boundaries.points[i].robot, boundaries.points[i].covariance, i);
+    const BoundaryPoint& p = boundaries.points[i];
+    const double a = p.straightness * options_.aperture_sigma;
+    s.add_point(p.robot, p.covariance + (a * a) * p.tangent * p.tangent.transpose(), i);
   }
   return s;
 }

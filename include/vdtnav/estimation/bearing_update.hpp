@@ -8,7 +8,8 @@
 /// which landmark of that class it saw, and it also reports things that are not landmarks. Each
 /// detection is therefore associated with the landmark of its class (any, when the class is
 /// unknown) whose predicted bearing is nearest in the Mahalanobis sense, and used only when that
-/// distance passes a chi-square gate (1 dof).
+/// distance passes a chi-square gate (1 dof). A landmark is seen at most once per frame: when
+/// several detections claim one, the nearest keeps it and the others count as rejected.
 ///
 /// Observation of landmark l = (l_x, l_y) from the robot X = (x, y, phi) with the sensor at s in
 /// the robot frame, q = l - (x, y) - R(phi) s:

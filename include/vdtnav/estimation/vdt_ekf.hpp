@@ -79,13 +79,19 @@ class VdtEkfLocalizer final : public Localizer2D {
   [[nodiscard]] std::string name() const override { return name_; }
 
   /// \brief Corrects the current estimate (no prediction: call after update() of the same
-  /// instant) with bearings to known landmarks, associated and gated (bearing_update.hpp).
+  /// instant) with bearings to known landmarks, associated and gated (bearing_update.hpp) with
+  /// reported_covariance().
   BearingUpdateResult update_bearings(const std::vector<BearingDetection>& detections,
                                       const std::vector<Landmark2>& landmarks,
                                       const BearingUpdateOptions& options = {});
   /// \brief The current estimate and its covariance (the filter's, without the map term).
   [[nodiscard]] const Pose2& pose() const noexcept { return x_; }
   [[nodiscard]] const Eigen::Matrix3d& covariance() const noexcept { return p_; }
+  /// \brief What update() reports as the covariance: the filter's plus the map term M of the last
+  /// scan update (map errors shared along the map's surfaces). update_bearings() gates and
+  /// corrects with P + M (a bearing sees the error from the map too) and carries M through the
+  /// correction as (I - K H) M (I - K H)^T.
+  [[nodiscard]] Eigen::Matrix3d reported_covariance() const { return p_ + map_term_; }
 
  private:
   VdtSensorModel model_;
@@ -93,6 +99,7 @@ class VdtEkfLocalizer final : public Localizer2D {
   std::unique_ptr<VdtOptimizer> start_;  ///< options_.optimizer_start
   Pose2 x_ = Pose2::Zero();
   Eigen::Matrix3d p_ = Eigen::Matrix3d::Identity();
+  Eigen::Matrix3d map_term_ = Eigen::Matrix3d::Zero();  ///< see reported_covariance()
   std::string name_;
 };
 

@@ -18,6 +18,8 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "vdtnav/core/error.hpp"
+#include "vdtnav/estimation/vdt_ekf.hpp"
+#include "vdtnav/map/vdt_map.hpp"
 #include "vdtnav/rgbd_ground/camera_mount.hpp"
 #include "vdtnav/rgbd_ground/ground_boundaries.hpp"
 
@@ -221,6 +223,99 @@ TEST(GroundBoundaries, PointCovarianceIsConsistentByMonteCarlo) {
   nees /= count;
   EXPECT_GT(nees, 1.9);
   EXPECT_LT(nees, 2.1);
+}
+
+TEST(GroundBoundaries, EdgeTangentsFollowTheKnownBoundariesAndCornersAreNotStraight) {
+  const GroundBoundaryExtractor ex(PinholeCamera(scene().cal), scene().truth);
+  const GroundBoundaries b = ex.extract(scene().frame);
+  int along_x = 0, along_y = 0, corner = 0;
+  for (const BoundaryPoint& p : b.points) {
+    const double to_corner = (p.robot - Eigen::Vector2d(kLineX, kLineY)).norm();
+    if (std::abs(p.robot.x() - kLineX) < 0.05 && p.robot.y() < kLineY - 0.3) {
+      ++along_x;  // the line x = kLineX runs along y
+      EXPECT_GT(std::abs(p.tangent.y()), 0.98) << p.robot.transpose();
+      EXPECT_GT(p.straightness, 0.95) << p.robot.transpose();
+    } else if (std::abs(p.robot.y() - kLineY) < 0.05 && p.robot.x() > kLineX + 0.3) {
+      ++along_y;
+      EXPECT_GT(std::abs(p.tangent.x()), 0.98) << p.robot.transpose();
+      EXPECT_GT(p.straightness, 0.95) << p.robot.transpose();
+    } else if (to_corner < 0.03) {
+      ++corner;  // an L: its arms (unequal in points, by perspective) pull both ways
+      EXPECT_LT(p.straightness, 0.75) << p.robot.transpose();
+    }
+  }
+  EXPECT_GT(along_x, 50);
+  EXPECT_GT(along_y, 50);
+  EXPECT_GT(corner, 0);
+  // The observations carry the aperture term along the edge, the points' own covariance across.
+  const ScanPoints obs = ex.observations(b);
+  ASSERT_EQ(obs.size(), b.points.size());
+  const double a = ex.options().aperture_sigma;
+  for (std::size_t i = 0; i < b.points.size(); ++i) {
+    const BoundaryPoint& p = b.points[i];
+    const Eigen::Vector2d n(-p.tangent.y(), p.tangent.x());
+    EXPECT_NEAR(n.dot(obs.point_covariances[i] * n), n.dot(p.covariance * n), 1e-12);
+    EXPECT_NEAR(p.tangent.dot(obs.point_covariances[i] * p.tangent),
+                p.tangent.dot(p.covariance * p.tangent) + std::pow(p.straightness * a, 2), 1e-9);
+  }
+}
+
+TEST(GroundBoundaries, AStraightEdgeInAGridMapTellsNothingAlongItself) {
+  // A boundary at a slope of 0.066 drawn in a 5 cm grid as a two-cell band (a staircase of
+  // 15-cell steps, as the park's bent paths are): its cells ripple along the line, and without the
+  // aperture term 400 points on it made the EKF believe it knew the position along the line to
+  // ~1 cm (the along-track collapse of examples/pmd_rgbd). The points lie exactly on the true line;
+  // the prior along the line must survive the update, across it the points must win.
+  const double res = 0.05, slope = 0.066;
+  const auto line_y = [&](double x) { return 3.0 + slope * (x - 2.0); };
+  OccupancyGrid<2> grid(Eigen::Vector2i(400, 200), GridFrame<2>(res, Eigen::Vector2d::Zero()), 0);
+  const auto above = [&](int x, int y) {
+    const Eigen::Vector2d c = grid.cell_center({x, y});
+    return c.y() > line_y(c.x());
+  };
+  for (int y = 0; y + 1 < 200; ++y)
+    for (int x = 0; x + 1 < 400; ++x)
+      for (const auto& [dx, dy] : {std::pair{1, 0}, std::pair{0, 1}})
+        if (above(x, y) != above(x + dx, y + dy)) {
+          grid({x, y}) = 1;
+          grid({x + dx, y + dy}) = 1;
+        }
+  const VdtMap2 map = VdtMap2::build(grid);
+  const Pose2 pose(10.0, line_y(10.0) - 1.0, 0.0);
+  std::vector<BoundaryPoint> points;
+  for (double x = 6.0; x <= 14.0; x += 0.02) {
+    BoundaryPoint p;
+    p.robot = Eigen::Vector2d(x, line_y(x)) - pose.head<2>();
+    p.covariance = Eigen::Vector2d(1e-4, 1e-4).asDiagonal();
+    points.push_back(p);
+  }
+  estimate_edge_tangents(points, 0.15);
+  GroundBoundaries b;
+  b.points = points;
+  const Eigen::Vector2d t = Eigen::Vector2d(1.0, slope).normalized(), n(-t.y(), t.x());
+  const Eigen::Matrix3d p0 = Eigen::Vector3d(0.01, 0.01, 1e-4).asDiagonal();
+  const auto posterior = [&](double aperture_sigma) {
+    GroundBoundaryOptions o;
+    o.aperture_sigma = aperture_sigma;
+    const GroundBoundaryExtractor ex(PinholeCamera(scene().cal), scene().truth, o);
+    VdtEkfOptions eo;
+    eo.motion = MotionModelKind::kOdometryIncrement;
+    eo.search.enabled = false;
+    eo.sensor.gate = 5.0 * res;
+    eo.sensor.map_sigma = 0.5 * res;
+    VdtEkfLocalizer ekf(map, eo);
+    ekf.reset(pose, p0);
+    (void)ekf.update(OdometryStep{}, ex.observations(b));
+    return ekf.covariance();
+  };
+  const Eigen::Matrix3d with = posterior(10.0), without = posterior(0.0);
+  const auto sd = [](const Eigen::Matrix3d& p, const Eigen::Vector2d& u) {
+    return std::sqrt(u.dot(p.topLeftCorner<2, 2>() * u));
+  };
+  EXPECT_GT(sd(with, t), 0.8 * 0.1);  // along: the prior's 10 cm, nearly untouched
+  EXPECT_LT(sd(without, t), 0.05);    // the collapse this guards against
+  // Across, the line is still found: to within the staircase's half cell, not the prior's 10 cm.
+  EXPECT_LT(sd(with, n), 0.5 * res);
 }
 
 TEST(GroundBoundaries, BadInputIsRefusedWithTheReason) {
