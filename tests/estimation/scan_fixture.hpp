@@ -3,7 +3,9 @@
 // VDT), so that noise-free scans fit the map exactly up to interpolation.
 
 #include <cmath>
+#include <map>
 #include <random>
+#include <utility>
 
 #include "vdtnav/map/vdt_map.hpp"
 #include "vdtnav/sensor/laser_scan.hpp"
@@ -48,6 +50,24 @@ inline Pose2 tour_pose(std::size_t k) {
   const Eigen::Vector2d a = t[k % t.size()], b = t[(k + 1) % t.size()];
   const Eigen::Vector2d p = 0.6 * a + 0.4 * b;
   return Pose2(p.x(), p.y(), std::atan2(b.y() - a.y(), b.x() - a.x()) + 0.2);
+}
+
+/// Map errors shared per square of side `length` (world frame): every endpoint in one square is
+/// moved by one draw of N(0, sigma_c^2 I) — the model of
+/// VdtSensorModelOptions::map_correlation_length.
+inline void shift_by_shared_map_errors(ScanPoints& scan, const Pose2& pose, double length,
+                                       double sigma_c, std::mt19937& rng) {
+  std::normal_distribution<double> n01(0.0, 1.0);
+  const Eigen::Rotation2Dd rot(pose[2]);
+  std::map<std::pair<long, long>, Eigen::Vector2d> shift;
+  for (Eigen::Vector2d& p : scan.points) {
+    const Eigen::Vector2d w = rot * p + pose.head<2>();
+    const std::pair<long, long> key(static_cast<long>(std::floor(w.x() / length)),
+                                    static_cast<long>(std::floor(w.y() / length)));
+    auto [it, fresh] = shift.try_emplace(key);
+    if (fresh) it->second = sigma_c * Eigen::Vector2d(n01(rng), n01(rng));
+    p += rot.inverse() * it->second;
+  }
 }
 
 }  // namespace vdtnav::test

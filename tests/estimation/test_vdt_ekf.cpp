@@ -154,6 +154,30 @@ TEST(VdtEkfUpdate, ConvergedIteratedUpdateIsNotOverConfident) {
   EXPECT_GE(a.anees, 0.75 * 3.0);
 }
 
+/// Iterated updates with map errors shared per square of side `length` (0: off) and a map
+/// builder's pose error `pose_sigma`; shared_map_sigma() is the sigma_c of that model.
+VdtEkfOptions shared_map_error_options(double length, double pose_sigma) {
+  VdtEkfOptions o = classic_ekf_options();
+  o.max_iterations = 10;
+  o.sensor.map_correlation_length = length;
+  o.sensor.map_pose_sigma = pose_sigma;
+  return o;
+}
+double shared_map_sigma(double pose_sigma) {
+  const double res = test::world().map.resolution();
+  return std::sqrt(res * res / 12.0 + pose_sigma * pose_sigma);
+}
+
+/// One 361-beam scan at `truth` whose endpoints carry map errors shared per square, through
+/// `ekf` reset 1.5 cm and 0.005 rad off with a wide prior.
+LocalizationResult scan_with_shared_map_errors(VdtEkfLocalizer& ekf, const Pose2& truth,
+                                               double length, double sigma_c, std::mt19937& rng) {
+  ScanPoints scan = scan_points(test::simulate_scan(truth, 0.02, rng, 361));
+  test::shift_by_shared_map_errors(scan, truth, length, sigma_c, rng);
+  ekf.reset(truth + Pose2(0.01, -0.01, 0.005), Eigen::Vector3d(1.0, 1.0, 0.09).asDiagonal());
+  return ekf.update(standing_still(), scan);
+}
+
 /// Map errors shared per 2 m square (VdtSensorModelOptions::map_correlation_length): each trial
 /// shifts the endpoints of every square by one common N(0, sigma_c^2 I) offset. A broad prior
 /// (1 m, 0.3 rad) leaves the scan to decide; the reported covariance (the filter's own plus the
@@ -162,31 +186,13 @@ TEST(VdtEkfUpdate, MapErrorsSharedPerSquareAreReported) {
   const Pose2 truth = test::tour_pose(7);
   const double length = 2.0, pose_sigma = 0.02;
   const auto anees = [&](double correlation_length) {
-    VdtEkfOptions o = classic_ekf_options();
-    o.max_iterations = 10;
-    o.sensor.map_correlation_length = correlation_length;
-    o.sensor.map_pose_sigma = pose_sigma;
-    const double sigma_c =
-        std::sqrt(test::world().map.resolution() * test::world().map.resolution() / 12.0 +
-                  pose_sigma * pose_sigma);
+    const VdtEkfOptions o = shared_map_error_options(correlation_length, pose_sigma);
+    const double sigma_c = shared_map_sigma(pose_sigma);
     std::mt19937 rng(78);
-    std::normal_distribution<double> n01(0.0, 1.0);
-    const Eigen::Rotation2Dd rot(truth[2]);
     std::vector<double> nees;
     for (int k = 0; k < 300; ++k) {
-      ScanPoints scan = scan_points(test::simulate_scan(truth, 0.02, rng, 361));
-      std::map<std::pair<long, long>, Eigen::Vector2d> shift;
-      for (Eigen::Vector2d& p : scan.points) {
-        const Eigen::Vector2d w = rot * p + truth.head<2>();
-        const std::pair<long, long> key(static_cast<long>(std::floor(w.x() / length)),
-                                        static_cast<long>(std::floor(w.y() / length)));
-        auto [it, fresh] = shift.try_emplace(key);
-        if (fresh) it->second = sigma_c * Eigen::Vector2d(n01(rng), n01(rng));
-        p += rot.inverse() * it->second;
-      }
       VdtEkfLocalizer ekf(test::world().map, o);
-      ekf.reset(truth + Pose2(0.01, -0.01, 0.005), Eigen::Vector3d(1.0, 1.0, 0.09).asDiagonal());
-      const LocalizationResult r = ekf.update(standing_still(), scan);
+      const LocalizationResult r = scan_with_shared_map_errors(ekf, truth, length, sigma_c, rng);
       EXPECT_EQ(r.status, LocalizationStatus::kConverged);
       nees.push_back(eval::nees(r.pose, truth, r.covariance));
     }
@@ -205,13 +211,8 @@ TEST(VdtEkfUpdate, TheMapTermFollowsTheEstimateThroughBearingCorrections) {
   // (without the map term) is too small and the map term left as it was is too large.
   const Pose2 truth = test::tour_pose(7);
   const double length = 2.0, pose_sigma = 0.02, sigma_b = 0.002;
-  VdtEkfOptions o = classic_ekf_options();
-  o.max_iterations = 10;
-  o.sensor.map_correlation_length = length;
-  o.sensor.map_pose_sigma = pose_sigma;
-  const double sigma_c =
-      std::sqrt(test::world().map.resolution() * test::world().map.resolution() / 12.0 +
-                pose_sigma * pose_sigma);
+  const VdtEkfOptions o = shared_map_error_options(length, pose_sigma);
+  const double sigma_c = shared_map_sigma(pose_sigma);
   std::vector<Landmark2> landmarks;
   for (int k = 0; k < 4; ++k) {
     const double a = 0.3 + 1.5 * k;
@@ -219,23 +220,11 @@ TEST(VdtEkfUpdate, TheMapTermFollowsTheEstimateThroughBearingCorrections) {
   }
   std::mt19937 rng(79);
   std::normal_distribution<double> n01(0.0, 1.0);
-  const Eigen::Rotation2Dd rot(truth[2]);
   std::vector<double> reported, filter_only, map_unchanged;
   int accepted = 0;
   for (int k = 0; k < 300; ++k) {
-    ScanPoints scan = scan_points(test::simulate_scan(truth, 0.02, rng, 361));
-    std::map<std::pair<long, long>, Eigen::Vector2d> shift;
-    for (Eigen::Vector2d& p : scan.points) {
-      const Eigen::Vector2d w = rot * p + truth.head<2>();
-      const std::pair<long, long> key(static_cast<long>(std::floor(w.x() / length)),
-                                      static_cast<long>(std::floor(w.y() / length)));
-      auto [it, fresh] = shift.try_emplace(key);
-      if (fresh) it->second = sigma_c * Eigen::Vector2d(n01(rng), n01(rng));
-      p += rot.inverse() * it->second;
-    }
     VdtEkfLocalizer ekf(test::world().map, o);
-    ekf.reset(truth + Pose2(0.01, -0.01, 0.005), Eigen::Vector3d(1.0, 1.0, 0.09).asDiagonal());
-    const LocalizationResult r = ekf.update(standing_still(), scan);
+    const LocalizationResult r = scan_with_shared_map_errors(ekf, truth, length, sigma_c, rng);
     ASSERT_EQ(r.status, LocalizationStatus::kConverged);
     const Eigen::Matrix3d m0 = r.covariance - ekf.covariance();
     std::vector<BearingDetection> z;

@@ -115,20 +115,10 @@ TEST(VdtOptimizerCovariance, MapErrorsSharedPerSquareAreConsidered) {
       EXPECT_DOUBLE_EQ(opt.sensor_model().map_sigma_correlated(), sigma_c);
     }
     std::mt19937 rng(77);
-    std::normal_distribution<double> n01(0.0, 1.0);
-    const Eigen::Rotation2Dd rot(truth[2]);
     std::vector<double> nees;
     for (int k = 0; k < 400; ++k) {
       ScanPoints scan = scan_points(test::simulate_scan(truth, 0.02, rng));
-      std::map<std::pair<long, long>, Eigen::Vector2d> shift;
-      for (Eigen::Vector2d& p : scan.points) {
-        const Eigen::Vector2d w = rot * p + truth.head<2>();
-        const std::pair<long, long> key(static_cast<long>(std::floor(w.x() / length)),
-                                        static_cast<long>(std::floor(w.y() / length)));
-        auto [it, fresh] = shift.try_emplace(key);
-        if (fresh) it->second = sigma_c * Eigen::Vector2d(n01(rng), n01(rng));
-        p += rot.inverse() * it->second;
-      }
+      test::shift_by_shared_map_errors(scan, truth, length, sigma_c, rng);
       const LocalizationResult r = opt.solve(scan, truth);
       EXPECT_TRUE(r.has_covariance);
       nees.push_back(eval::nees(r.pose, truth, r.covariance));
