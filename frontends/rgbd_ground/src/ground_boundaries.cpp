@@ -150,7 +150,11 @@ GroundBoundaries GroundBoundaryExtractor::extract(const RgbdFrame& frame) const 
 
 void estimate_edge_tangents(std::vector<BoundaryPoint>& points, double radius) {
   VDTNAV_CHECK(radius > 0.0, "edge tangents: the radius must be > 0");
-  // Points hashed into square buckets of side `radius`: a neighbourhood is 3 x 3 buckets.
+  // The neighbourhood of a point: the points within `radius`, or within the distance of its
+  // kNeighbours-th nearest when fewer lie there (far from the camera a pixel row spans
+  // z^2 / (f h) on the ground, and the kept pixels thin out), at most kGrowth radii.
+  constexpr int kNeighbours = 6, kGrowth = 4;
+  // Points hashed into square buckets of side `radius`.
   const auto cell = [radius](double v) {
     return static_cast<std::int64_t>(std::floor(v / radius));
   };
@@ -160,24 +164,43 @@ void estimate_edge_tangents(std::vector<BoundaryPoint>& points, double radius) {
   for (std::size_t i = 0; i < points.size(); ++i) {
     buckets[key(cell(points[i].robot.x()), cell(points[i].robot.y()))].push_back(i);
   }
-  const double r2 = radius * radius;
+  std::vector<std::pair<double, std::size_t>> near;
   for (BoundaryPoint& p : points) {
     const std::int64_t bx = cell(p.robot.x()), by = cell(p.robot.y());
+    // Rings of buckets until kNeighbours points lie within the ring's inner distance.
+    near.clear();
+    double reach = radius;
+    for (std::int64_t ring = 0; ring <= kGrowth; ++ring) {
+      for (std::int64_t dx = -ring; dx <= ring; ++dx) {
+        for (std::int64_t dy = -ring; dy <= ring; ++dy) {
+          if (std::max(std::abs(dx), std::abs(dy)) != ring) continue;
+          const auto it = buckets.find(key(bx + dx, by + dy));
+          if (it == buckets.end()) continue;
+          for (const std::size_t j : it->second) {
+            near.emplace_back((points[j].robot - p.robot).squaredNorm(), j);
+          }
+        }
+      }
+      if (ring >= 1 && near.size() > static_cast<std::size_t>(kNeighbours)) {
+        std::nth_element(near.begin(), near.begin() + kNeighbours, near.end());
+        const double dk = std::sqrt(near[kNeighbours].first);
+        if (dk <= static_cast<double>(ring) * radius) {  // no closer point in a farther ring
+          reach = std::max(radius, dk);
+          break;
+        }
+      }
+      reach = std::max(radius, static_cast<double>(ring + 1) * radius);
+    }
+    reach = std::min(reach, kGrowth * radius);
     Eigen::Vector2d mean = Eigen::Vector2d::Zero();
     Eigen::Matrix2d scatter = Eigen::Matrix2d::Zero();
     int n = 0;
-    for (std::int64_t dx = -1; dx <= 1; ++dx) {
-      for (std::int64_t dy = -1; dy <= 1; ++dy) {
-        const auto it = buckets.find(key(bx + dx, by + dy));
-        if (it == buckets.end()) continue;
-        for (const std::size_t j : it->second) {
-          const Eigen::Vector2d d = points[j].robot - p.robot;
-          if (d.squaredNorm() > r2) continue;
-          mean += d;
-          scatter.noalias() += d * d.transpose();
-          ++n;
-        }
-      }
+    for (const auto& [d2, j] : near) {
+      if (d2 > reach * reach) continue;
+      const Eigen::Vector2d d = points[j].robot - p.robot;
+      mean += d;
+      scatter.noalias() += d * d.transpose();
+      ++n;
     }
     if (n < 4) {
       p.straightness = 0.0;
