@@ -72,21 +72,19 @@ BearingUpdateResult ekf_bearing_update(const std::vector<BearingDetection>& dete
   }
   // One detection per landmark and frame: when several claim one landmark, the closest in the
   // Mahalanobis sense keeps it (the others are false positives beside a true detection).
+  std::vector<int> owner(landmarks.size(), -1);
   for (std::size_t k = 0; k < detections.size(); ++k) {
     if (out.landmark[k] < 0) continue;
-    for (std::size_t j = 0; j < detections.size(); ++j) {
-      if (j != k && out.landmark[j] == out.landmark[k] &&
-          (chosen[j].mahalanobis < chosen[k].mahalanobis ||
-           (chosen[j].mahalanobis == chosen[k].mahalanobis && j < k))) {
-        out.landmark[k] = -2;  // marked; cleared below so that the comparisons above stay valid
-        break;
-      }
+    int& o = owner[static_cast<std::size_t>(out.landmark[k])];
+    if (o < 0 || chosen[k].mahalanobis < chosen[static_cast<std::size_t>(o)].mahalanobis) {
+      o = static_cast<int>(k);
     }
   }
   Eigen::Matrix3d info = Eigen::Matrix3d::Zero();
   Eigen::Vector3d b = Eigen::Vector3d::Zero();
   for (std::size_t k = 0; k < detections.size(); ++k) {
-    if (out.landmark[k] < 0) {
+    if (out.landmark[k] < 0 ||
+        owner[static_cast<std::size_t>(out.landmark[k])] != static_cast<int>(k)) {
       out.landmark[k] = -1;
       ++out.rejected;
       continue;
