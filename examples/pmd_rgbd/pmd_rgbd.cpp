@@ -80,12 +80,20 @@ int main(int argc, char** argv) {
   std::uint64_t seed = 1;
   std::size_t frames = 0;
   bool verbose = false;
+  double correlation_length = 2.0;
+  bool schmidt = false;
   app.add_option("--out", out, "output folder")->capture_default_str();
   app.add_option("--seed", seed, "seed of the park, the drive and all noise")
       ->capture_default_str();
   app.add_option("--frames", frames, "frames to run (0: the whole ~500 m drive)")
       ->capture_default_str();
   app.add_flag("--verbose", verbose, "one line per frame");
+  app.add_option("--map-correlation-length", correlation_length,
+                 "side of the squares whose map errors are shared (m, 0: independent)")
+      ->capture_default_str();
+  app.add_flag("--schmidt-map-errors", schmidt,
+               "carry the squares' map errors from frame to frame (VdtEkfOptions::"
+               "schmidt_map_errors) instead of reporting each frame's map term on top");
   CLI11_PARSE(app, argc, argv);
 
   try {
@@ -130,7 +138,8 @@ int main(int argc, char** argv) {
     // map_pose_sigma 0); the gate is 5 cells.
     eo.sensor.gate = 5.0 * resolution;
     eo.sensor.map_sigma = 0.5 * resolution;
-    eo.sensor.map_correlation_length = 2.0;
+    eo.sensor.map_correlation_length = correlation_length;
+    eo.schmidt_map_errors = schmidt;
     eo.sensor.map_pose_sigma = 0.0;
     eo.min_inliers = 20;
     VdtEkfLocalizer vdt(map, eo, "vdt-ekf");

@@ -156,6 +156,9 @@ void visit(V& v, VdtEkfOptions& o) {
          "start the iterations at the optimizer's solution (settings: start)");
   v.section("start", "the optimizer that gives the start (keys of vdt-opt)",
             [&](V& s) { visit(s, o.start); });
+  v.flag("schmidt_map_errors", o.schmidt_map_errors,
+         "carry map errors shared per square from scan to scan (Schmidt-Kalman) instead of "
+         "reporting the scan's map term on top");
 }
 
 template <typename V>

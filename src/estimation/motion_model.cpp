@@ -5,7 +5,7 @@
 namespace vdtnav {
 
 void ekf_predict(MotionModelKind kind, const MotionNoise& noise, const OdometryStep& odo, Pose2& x,
-                 Eigen::Matrix3d& p) {
+                 Eigen::Matrix3d& p, Eigen::Matrix3d* jacobian) {
   const double c = std::cos(x[2]), s = std::sin(x[2]);
   if (kind == MotionModelKind::kVelocity) {
     const double dt = odo.dt;
@@ -20,6 +20,7 @@ void ekf_predict(MotionModelKind kind, const MotionNoise& noise, const OdometryS
     x = Pose2(x[0] + dt * odo.v * c, x[1] + dt * odo.v * s,
               wrap_angle(x[2] + dt * odo.w));                            // (3.7)
     p = gx * p * gx.transpose() + gu * q.asDiagonal() * gu.transpose();  // (3.8)
+    if (jacobian != nullptr) *jacobian = gx;
     // Random-walk floor: variance grows linearly with time.
     p.diagonal() += dt * Eigen::Vector3d(noise.floor_xy_rate * noise.floor_xy_rate,
                                          noise.floor_xy_rate * noise.floor_xy_rate,
@@ -40,6 +41,7 @@ void ekf_predict(MotionModelKind kind, const MotionNoise& noise, const OdometryS
     const Eigen::Vector3d q(st * st, st * st, sr * sr);
     x = compose(x, d);
     p = f * p * f.transpose() + g * q.asDiagonal() * g.transpose();
+    if (jacobian != nullptr) *jacobian = f;
   }
   p = 0.5 * (p + p.transpose());
 }

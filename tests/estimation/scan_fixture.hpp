@@ -52,14 +52,20 @@ inline Pose2 tour_pose(std::size_t k) {
   return Pose2(p.x(), p.y(), std::atan2(b.y() - a.y(), b.x() - a.x()) + 0.2);
 }
 
+/// One error per square of side `length` (world frame), drawn when the square is first needed.
+using SharedMapErrors = std::map<std::pair<long, long>, Eigen::Vector2d>;
+
 /// Map errors shared per square of side `length` (world frame): every endpoint in one square is
 /// moved by one draw of N(0, sigma_c^2 I) — the model of
-/// VdtSensorModelOptions::map_correlation_length.
+/// VdtSensorModelOptions::map_correlation_length. `errors`, when given, keeps the draws across
+/// calls (one map seen in several scans); otherwise each call draws a new map.
 inline void shift_by_shared_map_errors(ScanPoints& scan, const Pose2& pose, double length,
-                                       double sigma_c, std::mt19937& rng) {
+                                       double sigma_c, std::mt19937& rng,
+                                       SharedMapErrors* errors = nullptr) {
   std::normal_distribution<double> n01(0.0, 1.0);
   const Eigen::Rotation2Dd rot(pose[2]);
-  std::map<std::pair<long, long>, Eigen::Vector2d> shift;
+  SharedMapErrors fresh_map;
+  SharedMapErrors& shift = errors != nullptr ? *errors : fresh_map;
   for (Eigen::Vector2d& p : scan.points) {
     const Eigen::Vector2d w = rot * p + pose.head<2>();
     const std::pair<long, long> key(static_cast<long>(std::floor(w.x() / length)),

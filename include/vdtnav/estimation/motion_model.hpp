@@ -33,8 +33,9 @@ struct MotionNoise {
   double floor_t = 0.001, floor_r = 0.001;
 };
 
-/// \brief One EKF step's prediction (3.7)-(3.10) or odometry-increment prediction.
+/// \brief One EKF step's prediction (3.7)-(3.10) or odometry-increment prediction; `jacobian`,
+/// when given, receives F = dX+/dX (what carries a cross-covariance with X forward).
 void ekf_predict(MotionModelKind kind, const MotionNoise& noise, const OdometryStep& odometry,
-                 Pose2& x, Eigen::Matrix3d& p);
+                 Pose2& x, Eigen::Matrix3d& p, Eigen::Matrix3d* jacobian = nullptr);
 
 }  // namespace vdtnav

@@ -12,10 +12,15 @@
 ///   P+ = (P^-1 + sum_i H_i^T R_i^-1 H_i)^-1,   X+ = X + P+ sum_i H_i^T R_i^-1 nu_i
 /// which costs O(n) for n beams instead of inverting a 2n x 2n matrix. Errors shared by every
 /// point of a set (a camera's attitude) are considered, not estimated (a Schmidt update): P+ gains
-/// S cov(theta) S^T, S = P+ sum_i H_i^T R_i^-1 d_point_i G_i (see vdt_ekf.cpp).
+/// S cov(theta) S^T, S = P+ sum_i H_i^T R_i^-1 d_point_i G_i (see vdt_ekf.cpp). Map errors shared
+/// per square of the map (VdtSensorModelOptions::map_correlation_length) are reported on top of
+/// the filter's covariance as the scan's own sensitivity to them (reported_covariance()), or, with
+/// VdtEkfOptions::schmidt_map_errors, carried from scan to scan in a Schmidt-Kalman filter.
 
+#include <cstdint>
 #include <memory>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 #include "vdtnav/estimation/bearing_update.hpp"
@@ -49,6 +54,18 @@ struct VdtEkfOptions {
   /// prediction; only the linearisation point changes.
   bool optimizer_start = false;
   VdtOptimizerOptions start;
+  /// How map errors shared per square (sensor.map_correlation_length > 0) enter the filter.
+  /// false: the scan's own sensitivity to them, M = sum_k S_k sigma_c^2 S_k^T with S_k from the
+  /// scan's information alone, is reported on top of the filter's covariance and not fed back
+  /// (the steady state of a filter that keeps seeing the same map errors: conservative when the
+  /// squares' errors are in truth correlated along whole walls). true: a Schmidt-Kalman filter
+  /// that keeps cov(X, e_k) for every square k it has seen and solves each update jointly for the
+  /// pose and the errors of the squares in view (the errors stay unestimated): P is the error
+  /// against the world, a square seen again adds no information beyond what its error allows, and
+  /// observations of the world (bearings to landmarks) correct the pose without being pulled back
+  /// by the next scan. Exact when the squares' errors are independent; over-confident when they
+  /// are not (measured in the README: PMD and Intel studies).
+  bool schmidt_map_errors = false;
 };
 
 /// \brief The batch EKF update with the 2n x 2n innovation covariance (reference for tests).
@@ -84,7 +101,8 @@ class VdtEkfLocalizer final : public Localizer2D {
   BearingUpdateResult update_bearings(const std::vector<BearingDetection>& detections,
                                       const std::vector<Landmark2>& landmarks,
                                       const BearingUpdateOptions& options = {});
-  /// \brief The current estimate and its covariance (the filter's, without the map term).
+  /// \brief The current estimate and the filter's covariance (without the map term M; with
+  /// schmidt_map_errors, M = 0 and this is the error against the world).
   [[nodiscard]] const Pose2& pose() const noexcept { return x_; }
   [[nodiscard]] const Eigen::Matrix3d& covariance() const noexcept { return p_; }
   /// \brief What update() reports as the covariance: the filter's plus the map term M of the last
@@ -92,6 +110,8 @@ class VdtEkfLocalizer final : public Localizer2D {
   /// corrects with P + M (a bearing sees the error from the map too) and carries M through the
   /// correction as (I - K H) M (I - K H)^T.
   [[nodiscard]] Eigen::Matrix3d reported_covariance() const { return p_ + map_term_; }
+  /// \brief How many squares' errors the Schmidt filter carries a cross-covariance with.
+  [[nodiscard]] std::size_t considered_squares() const noexcept { return cross_.size(); }
 
  private:
   VdtSensorModel model_;
@@ -100,6 +120,9 @@ class VdtEkfLocalizer final : public Localizer2D {
   Pose2 x_ = Pose2::Zero();
   Eigen::Matrix3d p_ = Eigen::Matrix3d::Identity();
   Eigen::Matrix3d map_term_ = Eigen::Matrix3d::Zero();  ///< see reported_covariance()
+  /// schmidt_map_errors: cov(X, e_k) per square k of the map (VdtSensorModel::map_error_group).
+  std::unordered_map<std::int64_t, Eigen::Matrix<double, 3, 2>> cross_;
+  void prune_cross();
   std::string name_;
 };
 
