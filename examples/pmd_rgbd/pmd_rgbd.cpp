@@ -29,7 +29,6 @@
 #include <filesystem>
 #include <fstream>
 #include <random>
-#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -83,31 +82,6 @@ viz::RgbImage to_rgb(const cv::Mat& bgr) {
       px[2] = v[0];
     }
   return img;
-}
-
-/// Camera-to-world poses of a pose.txt: one "tx ty tz qx qy qz qw" a line (Hamilton, scalar
-/// last, as TUM). \throws std::runtime_error naming the file and line of a malformed line.
-std::vector<Eigen::Isometry3d> read_camera_poses(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw std::runtime_error(path + ": cannot be read");
-  std::vector<Eigen::Isometry3d> out;
-  std::string line;
-  for (int number = 1; std::getline(in, line); ++number) {
-    if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
-    std::istringstream fields(line);
-    double v[7];
-    for (double& x : v) {
-      if (!(fields >> x) || !std::isfinite(x)) {
-        throw std::runtime_error(path + ":" + std::to_string(number) +
-                                 ": expected 7 numbers tx ty tz qx qy qz qw");
-      }
-    }
-    Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
-    t.linear() = Eigen::Quaterniond(v[6], v[3], v[4], v[5]).normalized().toRotationMatrix();
-    t.translation() = Eigen::Vector3d(v[0], v[1], v[2]);
-    out.push_back(t);
-  }
-  return out;
 }
 
 /// Relative localization between recorded frames (issue 13, item 5). The camera is hand-held:

@@ -1,7 +1,10 @@
 #include "vdtnav/rgbd_ground/rgbd_frame.hpp"
 
 #include <cmath>
+#include <fstream>
+#include <sstream>
 #include <string>
+#include <vector>
 
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
@@ -71,6 +74,31 @@ RgbdFrame read_rgbd_frame(const std::string& colour_path, const std::string& dep
   } catch (const ConfigError& e) {
     throw FormatError(depth_path, 0, std::string(e.what()) + " (colour: " + colour_path + ")");
   }
+}
+
+std::vector<Eigen::Isometry3d> read_camera_poses(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw IoError(path + ": cannot open the pose file");
+  std::vector<Eigen::Isometry3d> out;
+  std::string line;
+  for (std::size_t number = 1; std::getline(in, line); ++number) {
+    if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
+    std::istringstream fields(line);
+    double v[7];
+    for (double& x : v) {
+      if (!(fields >> x) || !std::isfinite(x)) {
+        throw FormatError(path, number,
+                          "expected 7 numbers tx ty tz qx qy qz qw, got '" + line + "'");
+      }
+    }
+    const Eigen::Quaterniond q(v[6], v[3], v[4], v[5]);
+    if (q.norm() < 1e-9) throw FormatError(path, number, "the quaternion (qx qy qz qw) is zero");
+    Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
+    t.linear() = q.normalized().toRotationMatrix();
+    t.translation() = Eigen::Vector3d(v[0], v[1], v[2]);
+    out.push_back(t);
+  }
+  return out;
 }
 
 }  // namespace vdtnav::rgbd_ground

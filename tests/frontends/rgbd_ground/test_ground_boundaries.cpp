@@ -381,18 +381,33 @@ TEST(GroundBoundaries, BadInputIsRefusedWithTheReason) {
       ConfigError);
 }
 
-/// Camera-to-world poses of a pose.txt (tx ty tz qx qy qz qw, Hamilton, scalar last).
-std::vector<Eigen::Isometry3d> read_poses(const std::string& path) {
-  std::ifstream in(path);
-  std::vector<Eigen::Isometry3d> out;
-  double tx, ty, tz, qx, qy, qz, qw;
-  while (in >> tx >> ty >> tz >> qx >> qy >> qz >> qw) {
-    Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
-    t.linear() = Eigen::Quaterniond(qw, qx, qy, qz).normalized().toRotationMatrix();
-    t.translation() = Eigen::Vector3d(tx, ty, tz);
-    out.push_back(t);
+TEST(GroundBoundaries, CameraPosesReadBackAndBadLinesNameTheirLine) {
+  const std::string dir = std::string(VDTNAV_TEST_TMP);
+  std::filesystem::create_directories(dir);
+  const std::string good = dir + "/poses_good.txt", bad = dir + "/poses_bad.txt";
+  {
+    std::ofstream f(good);
+    // A quarter turn about z (qz = qw = sqrt(1/2)) at (1, 2, 3), a blank line, the identity.
+    f << "1 2 3 0 0 0.7071067811865476 0.7071067811865476\n\n-1 0 0.5 0 0 0 1\n";
   }
-  return out;
+  const std::vector<Eigen::Isometry3d> poses = read_camera_poses(good);
+  ASSERT_EQ(poses.size(), 2u);
+  EXPECT_TRUE(poses[0].translation().isApprox(Eigen::Vector3d(1.0, 2.0, 3.0)));
+  // Camera-to-world: the camera's x axis points along the world's y.
+  EXPECT_TRUE((poses[0].linear() * Eigen::Vector3d::UnitX()).isApprox(Eigen::Vector3d::UnitY()));
+  EXPECT_TRUE(poses[1].linear().isApprox(Eigen::Matrix3d::Identity()));
+  {
+    std::ofstream f(bad);
+    f << "0 0 0 0 0 0 1\n0 0 0 0 0 nan 1\n";
+  }
+  try {
+    (void)read_camera_poses(bad);
+    ADD_FAILURE() << "a NaN was read";
+  } catch (const FormatError& e) {
+    EXPECT_EQ(e.line(), 2u);
+    EXPECT_NE(std::string(e.what()).find("expected 7 numbers"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW((void)read_camera_poses(dir + "/no_such_file.txt"), IoError);
 }
 
 TEST(GroundBoundaries, RealKinectFramesGiveOneFloorThroughTheGivenPoses) {
@@ -402,7 +417,7 @@ TEST(GroundBoundaries, RealKinectFramesGiveOneFloorThroughTheGivenPoses) {
   cal.width = 640;
   cal.height = 480;
   cal.camera_matrix << 518.0, 0.0, 325.5, 0.0, 519.0, 253.5, 0.0, 0.0, 1.0;
-  const std::vector<Eigen::Isometry3d> poses = read_poses(dir + "/pose.txt");
+  const std::vector<Eigen::Isometry3d> poses = read_camera_poses(dir + "/pose.txt");
   ASSERT_EQ(poses.size(), 5u);
   // Nominal mounting: a hand-held camera ~1.4 m up, looking forward and ~25 degrees down; the
   // fit may move it by up to 0.6 rad and 0.4 m.
@@ -459,7 +474,7 @@ TEST(GroundBoundaries, IclFramesFindTheFloorStripFromExtrinsicsFiveDegreesOff) {
   cal.width = 640;
   cal.height = 480;
   cal.camera_matrix << 481.2, 0.0, 319.5, 0.0, 480.0, 239.5, 0.0, 0.0, 1.0;
-  std::vector<Eigen::Isometry3d> poses = read_poses(dir + "/pose.txt");
+  std::vector<Eigen::Isometry3d> poses = read_camera_poses(dir + "/pose.txt");
   ASSERT_EQ(poses.size(), 5u);
   // World (y up, floor at y = -1.38) to a robot frame on the floor (z up).
   Eigen::Isometry3d world_to_robot = Eigen::Isometry3d::Identity();

@@ -5,6 +5,9 @@
 /// or the TUM RGB-D / ICL-NUIM datasets deliver them.
 
 #include <string>
+#include <vector>
+
+#include <Eigen/Geometry>
 
 #include <opencv2/core.hpp>
 
@@ -30,5 +33,11 @@ struct RgbdFrame {
 /// not 16-bit single-channel, the sizes differ or every depth is 0.
 [[nodiscard]] RgbdFrame read_rgbd_frame(const std::string& colour_path,
                                         const std::string& depth_path, double depth_scale);
+
+/// \brief Camera-to-world poses, one "tx ty tz qx qy qz qw" a line (a Hamilton quaternion with
+/// the scalar last, as TUM's trajectories without the stamp); blank lines are skipped.
+/// \throws IoError when the file cannot be read; FormatError `file:line: expected ...` on a line
+/// without 7 finite numbers or with a zero quaternion.
+[[nodiscard]] std::vector<Eigen::Isometry3d> read_camera_poses(const std::string& path);
 
 }  // namespace vdtnav::rgbd_ground
