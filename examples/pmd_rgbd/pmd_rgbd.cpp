@@ -11,7 +11,7 @@
 //
 //   vdtnav_pmd_rgbd [--out DIR] [--seed N] [--frames N] [--verbose]
 //                   [--map-correlation-length M] [--schmidt-map-errors]
-//   vdtnav_pmd_rgbd --kinect FRAMES_DIR [--out DIR]
+//   vdtnav_pmd_rgbd --kinect FRAMES_DIR [--calibration FILE] [--out DIR]
 //
 // Writes DIR/table.csv (method,frames,pos_rmse_m,yaw_rmse_rad,anees,anees_lo,anees_hi,
 // within_2sigma_pct,ms_per_frame), table.md, errors.png (Fig. 3.23: errors with +-2 sigma),
@@ -91,11 +91,17 @@ viz::RgbImage to_rgb(const cv::Mat& bgr) {
 /// through the given poses (robot frame of frame 1), from the given pose and from 4 cm, 3 cm and
 /// 1 degree off; the errors are against the given poses (a reference with centimetres of error of
 /// its own: 3-10 cm of depth disagreement between frames warped through them).
-int kinect_study(const std::string& dir, const std::string& out) {
-  uav_camera::CameraCalibration cal;  // the data's README: Kinect v1 intrinsics, no distortion
-  cal.width = 640;
-  cal.height = 480;
-  cal.camera_matrix << 518.0, 0.0, 325.5, 0.0, 519.0, 253.5, 0.0, 0.0, 1.0;
+/// `calibration`: an OpenCV or ROS calibration file; empty: the Kinect v1 intrinsics the data's
+/// README gives for ../shared/data/vision/rgbd-kinect (no distortion).
+int kinect_study(const std::string& dir, const std::string& calibration, const std::string& out) {
+  uav_camera::CameraCalibration cal;
+  if (calibration.empty()) {
+    cal.width = 640;
+    cal.height = 480;
+    cal.camera_matrix << 518.0, 0.0, 325.5, 0.0, 519.0, 253.5, 0.0, 0.0, 1.0;
+  } else {
+    cal = uav_camera::read_calibration(calibration);
+  }
   const std::vector<Eigen::Isometry3d> poses = read_camera_poses(dir + "/pose.txt");
   // A hand-held camera ~1.4 m up, looking forward and ~25 degrees down; the fit may move it by
   // up to 0.6 rad and 0.4 m. Indoors a carpet's edges are edges of lightness too.
@@ -175,7 +181,7 @@ int main(int argc, char** argv) {
   bool verbose = false;
   double correlation_length = 2.0;
   bool schmidt = false;
-  std::string kinect;
+  std::string kinect, calibration;
   app.add_option("--out", out, "output folder")->capture_default_str();
   app.add_option("--seed", seed, "seed of the park, the drive and all noise")
       ->capture_default_str();
@@ -191,10 +197,13 @@ int main(int argc, char** argv) {
   app.add_option("--kinect", kinect,
                  "instead: relative localization between the recorded RGB-D frames of this folder")
       ->check(CLI::ExistingDirectory);
+  app.add_option("--calibration", calibration,
+                 "with --kinect: the camera's calibration file (default: Kinect v1 intrinsics)")
+      ->check(CLI::ExistingFile);
   CLI11_PARSE(app, argc, argv);
 
   try {
-    if (!kinect.empty()) return kinect_study(kinect, out);
+    if (!kinect.empty()) return kinect_study(kinect, calibration, out);
     std::filesystem::create_directories(out);
     // ------------------------------------------------------------------ park, map, drive
     ParkSceneOptions po;
