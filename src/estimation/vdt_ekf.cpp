@@ -11,6 +11,7 @@
 #include <Eigen/LU>
 
 #include "vdtnav/core/error.hpp"
+#include "vdtnav/map/map_uncertainty.hpp"
 
 namespace vdtnav {
 
@@ -166,7 +167,8 @@ LocalizationResult VdtEkfLocalizer::update(const OdometryStep& odometry, const S
   Eigen::Matrix<double, 3, Eigen::Dynamic, 0, 3, ScanPoints::kMaxShared> cross(3, k);
   // With options_.schmidt_map_errors the iterations run jointly over the pose and the errors of
   // the squares in view (schmidt_iterations() above); otherwise below.
-  const bool joint = model_.map_sigma_correlated() > 0.0 && options_.schmidt_map_errors;
+  const bool joint = model_.map_sigma_correlated() > 0.0 && options_.schmidt_map_errors &&
+                     model_.options().map_uncertainty == nullptr;
   SchmidtStep schmidt;
   if (joint) {
     schmidt = schmidt_iterations(model_, options_, x_, p_, cross_, pts, xi);
@@ -231,7 +233,9 @@ LocalizationResult VdtEkfLocalizer::update(const OdometryStep& odometry, const S
     }
     p_ = 0.5 * (pn + pn.transpose());
     Eigen::Matrix3d map_term = Eigen::Matrix3d::Zero();
-    if (model_.map_sigma_correlated() > 0.0) {
+    if (model_.options().map_uncertainty != nullptr) {
+      map_term = map_covariance(info - prior_info, xi, pts, &disparities);
+    } else if (model_.map_sigma_correlated() > 0.0) {
       // Map errors shared by the readings of one square of the map (VdtSensorModelOptions::
       // map_correlation_length), considered like the shared errors above: per group k,
       // S_k = info^-1 sum_{i in k} H_i^T R_i^-1 d_point_i and P+ gains S_k sigma_c^2 S_k^T.
@@ -269,6 +273,47 @@ LocalizationResult VdtEkfLocalizer::update(const OdometryStep& odometry, const S
   }
   result.has_covariance = true;
   return result;
+}
+
+Eigen::Matrix3d VdtEkfLocalizer::map_covariance(const Eigen::Matrix3d& scan_info, const Pose2& xi,
+                                                const ScanPoints& pts,
+                                                std::vector<BeamDisparity>* disparities) const {
+  // As for the squares above, the term is the scan's own sensitivity to the map, reported on top
+  // of the filter's covariance: reading i's sensitivity to an error e_i of DT_v at its endpoint
+  // is S_i = scan_info^-1 H_i^T R_i^-1, and the map knows cov(sum_i S_i e_i) with every
+  // correlation between its endpoints (MapUncertainty::propagate). Endpoints it does not know
+  // fall back on the squares of map_correlation_length (a common shift, S_i d_point_i).
+  const Eigen::LDLT<Eigen::Matrix3d> scan_ldlt(scan_info);
+  const Eigen::Rotation2Dd rot(xi[2]);
+  model_.disparities(PoseTraits<2>::rotation(xi), xi.head<2>(), pts, nullptr, disparities);
+  const bool point_cov = !pts.point_covariances.empty();
+  std::vector<std::size_t> inliers;
+  std::vector<Eigen::Vector2d> world;
+  std::vector<MapUncertainty2::Sensitivity> sens;
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    const BeamDisparity& bd = (*disparities)[i];
+    if (!bd.inlier) continue;
+    const Eigen::Matrix2d r = point_cov
+                                  ? model_.disparity_covariance_point(bd, pts.point_covariances[i])
+                                  : model_.disparity_covariance(bd, pts.sigma_range);
+    inliers.push_back(i);
+    world.push_back(rot * pts.points[i] + xi.head<2>());
+    sens.push_back(scan_ldlt.solve(bd.d_pose.transpose() * r.inverse()));
+  }
+  std::vector<char> known;
+  Eigen::Matrix3d term = model_.options().map_uncertainty->propagate(world, sens, &known);
+  if (model_.map_sigma_correlated() > 0.0) {
+    std::unordered_map<std::int64_t, Eigen::Matrix<double, 3, 2>> groups;
+    for (std::size_t n = 0; n < inliers.size(); ++n) {
+      if (known[n]) continue;
+      auto [it, fresh] = groups.try_emplace(model_.map_error_group(world[n]));
+      if (fresh) it->second.setZero();
+      it->second.noalias() += sens[n] * (*disparities)[inliers[n]].d_point;
+    }
+    const double s2 = model_.map_sigma_correlated() * model_.map_sigma_correlated();
+    for (const auto& [key, c] : groups) term.noalias() += s2 * c * c.transpose();
+  }
+  return term;
 }
 
 void VdtEkfLocalizer::prune_cross() {

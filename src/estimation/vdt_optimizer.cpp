@@ -591,11 +591,27 @@ bool VdtOptimizerT<Dim>::covariance(const Observations& scan, const Pose& pose,
   const double c2 = model_.map_sigma_correlated() * model_.map_sigma_correlated();
   using GroupSensitivity = Eigen::Matrix<double, kDoF, Dim>;
   std::unordered_map<std::int64_t, GroupSensitivity> groups;
-  const auto add_to_group = [&](int i, const GroupSensitivity& s) {
-    if (c2 <= 0.0) return;
-    auto [it, fresh] = groups.try_emplace(model_.map_error_group(r * scan.points[i] + t));
+  const auto add_to_group_at = [&](const Vector& q, const GroupSensitivity& s) {
+    auto [it, fresh] = groups.try_emplace(model_.map_error_group(q));
     if (fresh) it->second.setZero();
     it->second.noalias() += s;
+  };
+  // A map that knows its own covariance (VdtSensorModelOptions::map_uncertainty, 2D): the
+  // endpoints' errors e_i of DT_v, correlated as the map says, enter through the sensitivity
+  // d^2(d_VCD/2)/dX de_i = w_i d_pose_i^T; the squares above take the endpoints it does not know.
+  const MapUncertainty2* map_uncertainty = Dim == 2 ? model_.options().map_uncertainty : nullptr;
+  std::vector<Vector> map_points;
+  std::vector<GroupSensitivity> map_sens, map_groups;
+  const auto add_to_group = [&](int i, const GroupSensitivity& s,
+                                const BeamDisparityT<Dim>& b, double w) {
+    const Vector q = r * scan.points[i] + t;
+    if (map_uncertainty != nullptr) {
+      map_points.push_back(q);
+      map_sens.push_back(w * b.d_pose.transpose());
+      map_groups.push_back(s);
+      return;
+    }
+    if (c2 > 0.0) add_to_group_at(q, s);
   };
   for (const int i : order) {
     if (!inliers[i]) continue;
@@ -612,7 +628,7 @@ bool VdtOptimizerT<Dim>::covariance(const Observations& scan, const Pose& pose,
       }
       middle.noalias() += (w * w * m2) * b.d_pose.transpose() * b.d_pose;  // map-noise floor
       if (k_shared > 0) shared.noalias() += w * c.cross_point * scan.shared_jacobians[i];
-      add_to_group(i, w * c.cross_point);
+      add_to_group(i, w * c.cross_point, b, w);
     } else {
       const BeamDisparityT<Dim> b = model_.disparity(r, t, scan.points[i], scan.directions[i]);
       const double w = robust_weight(options_.loss, options_.loss_scale, b.d.squaredNorm());
@@ -623,10 +639,19 @@ bool VdtOptimizerT<Dim>::covariance(const Observations& scan, const Pose& pose,
       if (k_shared > 0) {
         shared.noalias() += w * b.d_pose.transpose() * b.d_point * scan.shared_jacobians[i];
       }
-      add_to_group(i, w * b.d_pose.transpose() * b.d_point);
+      add_to_group(i, w * b.d_pose.transpose() * b.d_point, b, w);
     }
   }
   if (k_shared > 0) middle.noalias() += shared * scan.shared_covariance * shared.transpose();
+  if constexpr (Dim == 2) {
+    if (map_uncertainty != nullptr) {
+      std::vector<char> known;
+      middle.noalias() += map_uncertainty->propagate(map_points, map_sens, &known);
+      for (std::size_t n = 0; c2 > 0.0 && n < map_points.size(); ++n) {
+        if (!known[n]) add_to_group_at(map_points[n], map_groups[n]);
+      }
+    }
+  }
   for (const auto& [key, s] : groups) middle.noalias() += c2 * s * s.transpose();
   if (prior_information != nullptr) {
     // A maximum a posteriori estimate: the prior's curvature joins H, and the noise of its mean

@@ -18,6 +18,8 @@ VdtSensorModelT<Dim>::VdtSensorModelT(const Map& map, const VdtSensorModelOption
   VDTNAV_CHECK(std::isfinite(options.map_correlation_length) &&
                    options.map_correlation_length >= 0.0 && std::isfinite(options.map_pose_sigma),
                "sensor model: map_correlation_length must be >= 0 and map_pose_sigma finite");
+  VDTNAV_CHECK(Dim == 2 || options.map_uncertainty == nullptr,
+               "sensor model: map_uncertainty is supported in 2D only");
   if (options.map_correlation_length > 0.0) {
     const double res = map.resolution();
     const double pose = options.map_pose_sigma >= 0.0 ? options.map_pose_sigma : 0.5 * res;

@@ -64,7 +64,8 @@ struct VdtEkfOptions {
   /// against the world, a square seen again adds no information beyond what its error allows, and
   /// observations of the world (bearings to landmarks) correct the pose without being pulled back
   /// by the next scan. Exact when the squares' errors are independent; over-confident when they
-  /// are not (measured in the README: PMD and Intel studies).
+  /// are not (measured in the README: PMD and Intel studies). Not with sensor.map_uncertainty
+  /// (a map that knows its own covariance), whose term M is reported as in the default.
   bool schmidt_map_errors = false;
 };
 
@@ -123,6 +124,10 @@ class VdtEkfLocalizer final : public Localizer2D {
   /// schmidt_map_errors: cov(X, e_k) per square k of the map (VdtSensorModel::map_error_group).
   std::unordered_map<std::int64_t, Eigen::Matrix<double, 3, 2>> cross_;
   void prune_cross();
+  /// The map term M of a scan at xi with the map's own covariance (sensor.map_uncertainty).
+  [[nodiscard]] Eigen::Matrix3d map_covariance(const Eigen::Matrix3d& scan_info, const Pose2& xi,
+                                               const ScanPoints& pts,
+                                               std::vector<BeamDisparity>* disparities) const;
   std::string name_;
 };
 

@@ -22,6 +22,7 @@
 #include <Eigen/Core>
 
 #include "vdtnav/core/traits.hpp"
+#include "vdtnav/map/map_uncertainty.hpp"
 #include "vdtnav/map/vdt_map.hpp"
 #include "vdtnav/sensor/laser_scan.hpp"
 #include "vdtnav/sensor/observation_set.hpp"
@@ -79,6 +80,15 @@ struct VdtSensorModelOptions {
   /// Pose error of the map builder (the SLAM that drew the map), metres; < 0: resolution / 2, a
   /// scan matcher's accuracy on a grid of that resolution; 0: an exact map (a floor plan).
   double map_pose_sigma = 0.0;
+  /// A 2D map that knows its own error jointly over points (an uncertain VDT map fitted to the
+  /// scans it was built from, mapping/uncertain_vdt_map.hpp; not owned, must outlive the model).
+  /// The estimators then add the map's share of the pose covariance, cov(sum_i s_i e(q_i)) over
+  /// the inlier endpoints q_i (MapUncertainty::propagate) with s_i the pose's sensitivity to an
+  /// error e of DT_v at q_i, with every correlation the map knows between the endpoints; the
+  /// squares of map_correlation_length then model only the endpoints the map does not know.
+  /// map_sigma stays the per-reading floor (set it to what sampling the map adds, ~0 for a
+  /// smooth fitted map).
+  const MapUncertainty2* map_uncertainty = nullptr;
 };
 
 /// \brief One reading's disparity and its derivatives at a pose (aliases BeamDisparity for 2D,
