@@ -31,7 +31,6 @@
 #include "vdtnav/eval/nees.hpp"
 #include "vdtnav/io/occupancy_image.hpp"
 #include "vdtnav/mapping/uncertain_vdt_map.hpp"
-#include "vdtnav/sim/floor_plan.hpp"
 #include "vdtnav/sim/lidar_simulator.hpp"
 #include "vdtnav/sim/mapping_run.hpp"
 #include "vdtnav/sim/route_planner.hpp"
@@ -200,15 +199,9 @@ void plot_boundary_errors(const BoundaryErrors& e, const std::string& path,
   fig.save_png(path);
 }
 
-/// Experiment 2's world and path: the Willow Garage map's upper corridor, or the generated floor
-/// plan's main corridor.
-struct Corridor {
-  sim::MappingScene scene;
-  std::vector<Vector2d> path;
-};
-
-Corridor corridor(const std::string& data, std::uint32_t seed) {
-  Corridor c;
+/// Experiment 2's scene: the Willow Garage map's upper corridor, or the generated floor plan's
+/// main corridor.
+sim::MappingScene corridor(const std::string& data, std::uint32_t seed) {
   if (!data.empty()) {
     const std::string pgm = data + "/ros-maps/willow-garage/willow-full.pgm";
     if (std::filesystem::exists(pgm)) {
@@ -223,20 +216,12 @@ Corridor corridor(const std::string& data, std::uint32_t seed) {
           crop(Eigen::Vector2i(x, y)) = full(lo + Eigen::Vector2i(x, y));
         }
       }
-      c.scene.name = "Willow Garage corridor";
-      c.scene.world = std::move(crop);
-      c.path = sim::plan_tour(c.scene.world, 2, 0.5, seed);
-      return c;
+      std::vector<Vector2d> path = sim::plan_tour(crop, 2, 0.5, seed);
+      return sim::scene_along("Willow Garage corridor", std::move(crop), std::move(path));
     }
     std::printf("[exp2] %s not found: using the generated floor plan\n", pgm.c_str());
   }
-  sim::FloorPlanOptions o;
-  o.seed = seed;
-  const sim::FloorPlan plan = sim::generate_floor_plan(o);
-  c.scene.name = "generated floor plan, main corridor";
-  c.scene.world = plan.occupancy;
-  c.path = {Vector2d(3.0, plan.corridor_y), Vector2d(o.width - 3.0, plan.corridor_y)};
-  return c;
+  return sim::generated_corridor(seed);
 }
 
 }  // namespace
@@ -248,6 +233,7 @@ int main(int argc, char** argv) {
   unsigned seed = 1;
   int runs = 3;
   double noise_scale = 1.0;
+  study::IntelSettings intel;
   app.add_option("--out", out, "output folder")->capture_default_str();
   app.add_option("--seed", seed, "seed of the noise (and of the generated plan)")
       ->capture_default_str();
@@ -261,6 +247,14 @@ int main(int argc, char** argv) {
   app.add_option("--data", data,
                  "real data folder (e.g. ../shared/data): the Willow Garage map for Experiment 2 "
                  "and the Intel lab study; without it, the generated floor plan only");
+  app.add_option("--intel-pose-sigma", intel.pose_sigma,
+                 "Intel: stated sigma of the corrected poses' x and y, metres")
+      ->capture_default_str();
+  app.add_option("--intel-heading-sigma", intel.heading_sigma,
+                 "Intel: stated sigma of the corrected poses' heading, radians")
+      ->capture_default_str();
+  app.add_option("--intel-spacing", intel.spacing, "Intel: control point spacing, metres")
+      ->capture_default_str();
   CLI11_PARSE(app, argc, argv);
   try {
     std::filesystem::create_directories(out);
@@ -384,32 +378,21 @@ int main(int argc, char** argv) {
                  nullptr);
     }
 
-    Corridor c2 = corridor(data, seed);
-    sim::TrajectoryOptions topt;
-    topt.rate_hz = 10.0;
-    topt.min_steps = 2;
-    const std::vector<sim::TimedPose> drive = sim::follow_path(c2.path, c2.scene.world, topt);
-    // One scan every 0.5 m or 0.3 rad driven: the key frames a map builder keeps.
-    for (const auto& tp : drive) {
-      if (c2.scene.poses.empty() ||
-          (tp.pose.head<2>() - c2.scene.poses.back().head<2>()).norm() >= 0.5 ||
-          std::abs(wrap_angle(tp.pose[2] - c2.scene.poses.back()[2])) >= 0.3) {
-        c2.scene.poses.push_back(tp.pose);
-      }
-    }
+    const sim::MappingScene c2 = corridor(data, seed);
+    const std::vector<sim::TimedPose> drive = sim::mapping_drive(c2);
     sim::LidarOptions lidar2;  // 270 degrees at 0.25 degrees
     lidar2.range_max = 10.0;
     std::unique_ptr<mapping::UncertainVdtMap> map2;
     sim::MappingRun run2;
     std::printf("[experiment2] %s: %zu key scans over %.1f s, 270 deg LiDAR (0.25 deg, 10 m), "
                 "Table 5.2 noise, h = 0.25 m, %d runs\n",
-                c2.scene.name.c_str(), c2.scene.poses.size(), drive.back().t, runs);
-    experiment("experiment2", c2.scene, lidar2, sim::MappingNoise::table_5_2(), 0.25, &map2,
+                c2.name.c_str(), c2.poses.size(), drive.back().t, runs);
+    experiment("experiment2", c2, lidar2, sim::MappingNoise::table_5_2(), 0.25, &map2,
                &run2);
 
     // ------------------------------------------------------------ localization on map 2
     const std::vector<study::LocalizationRow> loc =
-        study::localize_on_fitted_map(*map2, c2.scene.world, drive, lidar2, seed, out);
+        study::localize_on_fitted_map(*map2, c2.world, drive, lidar2, seed, out);
 
     // ------------------------------------------------------------ tables
     {
@@ -434,7 +417,7 @@ int main(int argc, char** argv) {
       }
       std::ofstream lcsv(out + "/localization.csv");
       lcsv << "map_model,pos_rmse_m,ori_rmse_rad,anees,anees_lo,anees_hi\n";
-      md << "\nLocalization on the Experiment 2 map (" << c2.scene.name
+      md << "\nLocalization on the Experiment 2 map (" << c2.name
          << "):\n\n| map model | position RMSE (m) | orientation RMSE (rad) | ANEES [95 %] |\n"
             "|---|---|---|---|\n";
       for (const auto& r : loc) {
@@ -449,7 +432,7 @@ int main(int argc, char** argv) {
       }
     }
     if (!data.empty() && std::filesystem::exists(data + "/intel-lab/intel.relations")) {
-      study::intel_uncertain_map(data, out);
+      study::intel_uncertain_map(data, out, intel);
     }
     std::printf("[done] %s/table.csv, %s/localization.csv\n", out.c_str(), out.c_str());
   } catch (const Error& e) {

@@ -27,9 +27,18 @@ std::vector<LocalizationRow> localize_on_fitted_map(const vdtnav::mapping::Uncer
                                                     const vdtnav::sim::LidarOptions& lidar,
                                                     unsigned seed, const std::string& out);
 
+/// What the Intel study states about its map-building run.
+struct IntelSettings {
+  double pose_sigma = 0.05;     ///< of the corrected poses' x and y, metres
+  double heading_sigma = 0.01;  ///< of the corrected poses' heading, radians
+  double sigma_range = 0.02;    ///< of the ranges, metres
+  double spacing = 0.25;        ///< control points, metres
+};
+
 /// The Intel lab: the uncertain map fitted to the last third's scans at the corrected poses with
-/// a stated pose uncertainty, the first two thirds localized on it; writes intel.csv and
-/// intel_map_*.png.
-void intel_uncertain_map(const std::string& data, const std::string& out);
+/// the stated pose uncertainty, the first two thirds localized on it; writes intel.csv and
+/// intel_map_sigma.png.
+void intel_uncertain_map(const std::string& data, const std::string& out,
+                         const IntelSettings& settings);
 
 }  // namespace study

@@ -10,6 +10,7 @@
 #include <Eigen/Geometry>
 
 #include "vdtnav/core/error.hpp"
+#include "vdtnav/sim/floor_plan.hpp"
 #include "vdtnav/sim/ray_casting.hpp"
 
 namespace vdtnav::sim {
@@ -90,6 +91,39 @@ MappingScene l_shaped_room(double resolution) {
   }
   scene.poses = {Pose2(4.8, 1.5, kPi), Pose2(1.5, 4.8, -0.5 * kPi), Pose2(1.2, 1.2, 0.25 * kPi)};
   return scene;
+}
+
+std::vector<TimedPose> mapping_drive(const MappingScene& scene) {
+  VDTNAV_CHECK(scene.path.size() >= 2, "mapping_drive: the scene has no path");
+  TrajectoryOptions o;
+  o.rate_hz = 10.0;
+  o.min_steps = 2;
+  return follow_path(scene.path, scene.world, o);
+}
+
+MappingScene scene_along(std::string name, OccupancyGrid<2> world,
+                         std::vector<Eigen::Vector2d> path) {
+  MappingScene scene;
+  scene.name = std::move(name);
+  scene.world = std::move(world);
+  scene.path = std::move(path);
+  for (const TimedPose& tp : mapping_drive(scene)) {
+    if (scene.poses.empty() || (tp.pose.head<2>() - scene.poses.back().head<2>()).norm() >= 0.5 ||
+        std::abs(wrap_angle(tp.pose[2] - scene.poses.back()[2])) >= 0.3) {
+      scene.poses.push_back(tp.pose);
+    }
+  }
+  return scene;
+}
+
+MappingScene generated_corridor(std::uint32_t seed) {
+  FloorPlanOptions o;
+  o.seed = seed;
+  FloorPlan plan = generate_floor_plan(o);
+  std::vector<Eigen::Vector2d> path = {Eigen::Vector2d(3.0, plan.corridor_y),
+                                       Eigen::Vector2d(o.width - 3.0, plan.corridor_y)};
+  return scene_along("generated floor plan, main corridor", std::move(plan.occupancy),
+                     std::move(path));
 }
 
 }  // namespace vdtnav::sim

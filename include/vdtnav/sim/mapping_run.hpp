@@ -14,6 +14,7 @@
 #include "vdtnav/map/grid.hpp"
 #include "vdtnav/mapping/map_scan.hpp"
 #include "vdtnav/sim/lidar_simulator.hpp"
+#include "vdtnav/sim/trajectory.hpp"
 
 namespace vdtnav::sim {
 
@@ -55,7 +56,20 @@ struct MappingScene {
   std::string name;
   OccupancyGrid<2> world;
   std::vector<Pose2> poses;
+  std::vector<Eigen::Vector2d> path;  ///< the route driven (empty: poses placed by hand)
 };
+
+/// \brief The drive along scene.path (sim::follow_path at 10 Hz, the path driven once).
+[[nodiscard]] std::vector<TimedPose> mapping_drive(const MappingScene& scene);
+
+/// \brief A scene whose scans are the key frames a map builder keeps along `path` in `world`: one
+/// scan every 0.5 m or 0.3 rad of mapping_drive().
+[[nodiscard]] MappingScene scene_along(std::string name, OccupancyGrid<2> world,
+                                       std::vector<Eigen::Vector2d> path);
+
+/// \brief Experiment 2's embedded default (thesis 5.3.2 in a corridor of our own): the main
+/// corridor of the generated floor plan (FloorPlanOptions with `seed`), driven end to end.
+[[nodiscard]] MappingScene generated_corridor(std::uint32_t seed);
 
 /// \brief Experiment 1 (Fig. 5.1): an L-shaped room, 6 m x 6 m with the 3 m x 3 m corner at
 /// (3..6, 3..6) cut away, walls one cell thick at `resolution`, observed from three poses.
