@@ -277,7 +277,7 @@ int main(int argc, char** argv) {
       const auto vdt = [&](const Vector2d& p) -> Vector2d {
         return p - truth.nearest_occupied_point(p);
       };
-      std::vector<double> hs = {0.05, 0.1, 0.2, 0.3, 0.4, 0.5}, rms, mx;
+      std::vector<double> hs = {0.1, 0.15, 0.2, 0.25, 0.3, 0.4, 0.5}, rms, mx;
       for (double h : hs) {
         mapping::UncertainMapOptions o;
         o.spacing = h;

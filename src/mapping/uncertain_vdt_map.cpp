@@ -156,6 +156,7 @@ struct UncertainVdtMap::Problem {
     int scan;
     Eigen::Vector2d p;
     Eigen::Vector2i cell;
+    Eigen::Matrix2d cov;  ///< of p (robot frame): the range noise along the beam
   };
 
   UncertainVdtMap& map;
@@ -387,10 +388,12 @@ UncertainVdtMap UncertainVdtMap::fit(const std::vector<MapScan>& scans,
     const double sr = scans[s].points.sigma_range;
     VDTNAV_CHECK(std::isfinite(sr) && sr >= 0.0,
                  "uncertain map: scan " + std::to_string(s) + " has no valid range noise");
-    for (const auto& p : scans[s].points.points) {
-      if (!p.allFinite()) continue;
-      readings.push_back({static_cast<int>(s), p, Eigen::Vector2i::Zero()});
-      map.observed_.push_back(transform_point(scans[s].pose, p));
+    const ScanPoints& pts = scans[s].points;
+    for (std::size_t i = 0; i < pts.size(); ++i) {
+      if (!pts.points[i].allFinite()) continue;
+      readings.push_back(
+          {static_cast<int>(s), pts.points[i], Eigen::Vector2i::Zero(), pts.point_covariance(i)});
+      map.observed_.push_back(transform_point(scans[s].pose, pts.points[i]));
     }
   }
   pb.layout(map.observed_);
@@ -470,8 +473,6 @@ UncertainVdtMap UncertainVdtMap::fit(const std::vector<MapScan>& scans,
   po.cost_function_ownership = ceres::TAKE_OWNERSHIP;
   ceres::Problem problem(po);
   std::vector<char> has_reading(scans.size(), 0);
-  std::vector<double> variances;  // sigma_k^2 of every reading
-  variances.reserve(readings.size());
   for (const Reading& r : readings) {
     const auto s = static_cast<std::size_t>(r.scan);
     const double sr = scans[s].points.sigma_range;
@@ -484,7 +485,6 @@ UncertainVdtMap UncertainVdtMap::fit(const std::vector<MapScan>& scans,
       jx << 1.0, 0.0, -rp.y(), 0.0, 1.0, rp.x();
       var += 0.5 * (jx * scans[s].pose_covariance * jx.transpose()).trace();
     }
-    variances.push_back(var);
     std::vector<double*> blocks = pb.blocks(r.cell);
     if (has_pose[s]) blocks.push_back(&dpose[3 * s]);
     problem.AddResidualBlock(new BoundaryCost(pb.corner(r.cell), h, scans[s].pose, r.p,
@@ -528,23 +528,47 @@ UncertainVdtMap UncertainVdtMap::fit(const std::vector<MapScan>& scans,
   }
 
   // What the spline cannot follow (corners come out rounded, thesis 5.4; a staircase of cells is
-  // smoothed): the readings' squared residuals beyond their noise, sum(|r_k|^2 - sigma_k^2) /
-  // count over each cell's 3 x 3 neighbourhood, is a variance of DT_v the control points' covariance
-  // does not hold; queries add it (shared by the readings of a cell in propagate()).
+  // smoothed). The readings of one scan in one cell share that scan's pose error, so their
+  // scatter about their own mean is range noise and approximation error only: per cell,
+  // sum_g sum_{k in g} |r_k - mean_g r|^2 - (n_g - 1) sigma_r,k^2 over the groups g = (scan, cell)
+  // of its 3 x 3 neighbourhood (sigma_r,k^2 = trace(J R cov(p_k) R^T J^T): the range noise as the
+  // field sees it), divided by sum_g (n_g - 1), is a variance of DT_v the control
+  // points' covariance does not hold; queries add it (shared by the readings of a cell in
+  // propagate()).
   {
     const std::size_t n_cells = map.active_.size();
     std::vector<double> excess(n_cells, 0.0);
     std::vector<int> count(n_cells, 0);
     static constexpr double kZero[3] = {0.0, 0.0, 0.0};
+    struct Group {
+      Eigen::Vector2d sum = Eigen::Vector2d::Zero();
+      double sum_sq = 0.0, noise = 0.0;
+      int n = 0;
+    };
+    std::unordered_map<std::int64_t, Group> groups;
     for (std::size_t k = 0; k < readings.size(); ++k) {
       const Reading& r = readings[k];
+      const auto s = static_cast<std::size_t>(r.scan);
       const std::vector<double*> c = pb.blocks(r.cell);
-      double res[2];
-      boundary_residual(pb.corner(r.cell), h, scans[static_cast<std::size_t>(r.scan)].pose, kZero,
-                        r.p, c.data(), res, nullptr, nullptr);
+      double res[2], d_x[6];
+      boundary_residual(pb.corner(r.cell), h, scans[s].pose, kZero, r.p, c.data(), res, nullptr,
+                        d_x);
+      const Eigen::Matrix2d j = Eigen::Map<const Eigen::Matrix<double, 2, 3, Eigen::RowMajor>>(d_x)
+                                    .leftCols<2>();  // dr/dt = J
+      const Eigen::Matrix2d rot = Eigen::Rotation2Dd(scans[s].pose[2]).toRotationMatrix();
       const std::size_t cell = pb.cell_index(r.cell.x(), r.cell.y());
-      excess[cell] += res[0] * res[0] + res[1] * res[1] - variances[k];
-      ++count[cell];
+      Group& g = groups[static_cast<std::int64_t>(s) * static_cast<std::int64_t>(n_cells) +
+                        static_cast<std::int64_t>(cell)];
+      g.sum += Eigen::Vector2d(res[0], res[1]);
+      g.sum_sq += res[0] * res[0] + res[1] * res[1];
+      g.noise += (j * rot * r.cov * rot.transpose() * j.transpose()).trace();
+      ++g.n;
+    }
+    for (const auto& [key, g] : groups) {
+      if (g.n < 2) continue;
+      const auto cell = static_cast<std::size_t>(key % static_cast<std::int64_t>(n_cells));
+      excess[cell] += g.sum_sq - g.sum.squaredNorm() / g.n - (g.n - 1) * g.noise / g.n;
+      count[cell] += g.n - 1;
     }
     map.approximation_var_.assign(n_cells, 0.0f);
     for (int j = 0; j < map.cells_.y(); ++j) {

@@ -1,5 +1,7 @@
-// A user's program against the installed vdtnav::localization: one scan matched on a VDT map.
+// A user's program against the installed vdtnav::localization: one scan matched on a VDT map,
+// and an uncertain map fitted to the same scan.
 #include <vdtnav/estimation/vdt_optimizer.hpp>
+#include <vdtnav/mapping/uncertain_vdt_map.hpp>
 
 #include <cmath>
 #include <cstdio>
@@ -23,7 +25,18 @@ int main() {
   }
   const VdtOptimizer opt(map);
   const auto r = opt.solve(scan_points(scan), Pose2(2.05, 1.46, 0.03));
-  const bool ok = r.has_covariance && (r.pose - Pose2(2.0, 1.5, 0.0)).norm() < 2e-3;
+  mapping::MapScan ms;
+  ms.pose = Pose2(2.0, 1.5, 0.0);
+  ms.pose_covariance = Eigen::Vector3d(1e-4, 1e-4, 1e-5).asDiagonal();
+  ms.points = scan_points(scan);
+  const auto um = mapping::UncertainVdtMap::fit({ms}, mapping::UncertainMapOptions{});
+  const auto wall = um.evaluate(Eigen::Vector2d(2.0, 2.725));
+  const bool map_ok = wall.inside && std::abs(wall.value.y()) < 0.01 &&
+                      wall.covariance(1, 1) > 0.0 && std::isfinite(wall.covariance(1, 1));
+  std::printf("uncertain map: DT_y %g, sigma %g at a wall %s\n", wall.value.y(),
+              std::sqrt(wall.covariance(1, 1)), map_ok ? "ok" : "WRONG");
+  const bool ok =
+      map_ok && r.has_covariance && (r.pose - Pose2(2.0, 1.5, 0.0)).norm() < 2e-3;
   std::printf("pose (%g, %g, %g) %s: %s\n", r.pose[0], r.pose[1], r.pose[2], to_string(r.status),
               ok ? "ok" : "WRONG");
   return ok ? 0 : 1;
