@@ -35,8 +35,9 @@ void intel_uncertain_map(const std::string& data, const std::string& out,
                          const IntelSettings& settings) {
   using Clock = std::chrono::steady_clock;
   const std::string dir = data + "/intel-lab/";
-  std::printf("[intel] the uncertain map of the Intel lab from the last third of %sintel.gfs.log.gz\n",
-              dir.c_str());
+  std::printf(
+      "[intel] the uncertain map of the Intel lab from the last third of %sintel.gfs.log.gz\n",
+      dir.c_str());
   const CarmenLog gfs = load_carmen_log(dir + "intel.gfs.log.gz");
   const std::string table_path = dir + "intel_910_odom_vs_corrected.txt";
   const JoinedLogs logs = join_odometry_table(gfs, load_odometry_table(table_path), table_path);
@@ -44,11 +45,10 @@ void intel_uncertain_map(const std::string& data, const std::string& out,
   const std::size_t split = n - n / 3;
 
   // The map: the corrected poses of scans split..n-1 with the stated uncertainty.
-  const Eigen::Matrix3d pose_cov =
-      Eigen::Vector3d(settings.pose_sigma * settings.pose_sigma,
-                      settings.pose_sigma * settings.pose_sigma,
-                      settings.heading_sigma * settings.heading_sigma)
-          .asDiagonal();
+  const Eigen::Matrix3d pose_cov = Eigen::Vector3d(settings.pose_sigma * settings.pose_sigma,
+                                                   settings.pose_sigma * settings.pose_sigma,
+                                                   settings.heading_sigma * settings.heading_sigma)
+                                       .asDiagonal();
   std::vector<mapping::MapScan> scans;
   std::vector<Pose2> map_poses;
   std::vector<LaserScan> map_lasers;
@@ -67,13 +67,14 @@ void intel_uncertain_map(const std::string& data, const std::string& out,
   mo.spacing = settings.spacing;
   const mapping::UncertainVdtMap map = mapping::UncertainVdtMap::fit(scans, mo);
   const auto& sm = map.summary();
-  std::printf("[intel] %zu scans (sigma %.3f m, %.4f rad, range %.3f m), h = %.2f m: %d control "
-              "points, %d boundary points, %d Eikonal samples: fit %.1f s (%d iterations%s), "
-              "covariance %.1f s%s\n",
-              scans.size(), settings.pose_sigma, settings.heading_sigma, settings.sigma_range,
-              settings.spacing, sm.control_points, sm.boundary_points, sm.eikonal_samples,
-              sm.fit_seconds, sm.iterations, sm.converged ? "" : ", NOT converged",
-              sm.covariance_seconds, sm.covariance_ok ? "" : " (FAILED)");
+  std::printf(
+      "[intel] %zu scans (sigma %.3f m, %.4f rad, range %.3f m), h = %.2f m: %d control "
+      "points, %d boundary points, %d Eikonal samples: fit %.1f s (%d iterations%s), "
+      "covariance %.1f s%s\n",
+      scans.size(), settings.pose_sigma, settings.heading_sigma, settings.sigma_range,
+      settings.spacing, sm.control_points, sm.boundary_points, sm.eikonal_samples, sm.fit_seconds,
+      sm.iterations, sm.converged ? "" : ", NOT converged", sm.covariance_seconds,
+      sm.covariance_ok ? "" : " (FAILED)");
   const VdtMap2 fitted = map.to_vdt_map(0.05);
   // The occupancy map of the same scans, as the Intel study builds it.
   mapping::OccupancyMapperOptions oo;
@@ -97,8 +98,8 @@ void intel_uncertain_map(const std::string& data, const std::string& out,
     std::string name;
     const VdtMap2* vdt;
     const mapping::UncertainVdtMap* uncertainty;
-    double map_sigma;            // < 0: the sensor model's default
-    double correlation_length;   // the squares (0: off)
+    double map_sigma;           // < 0: the sensor model's default
+    double correlation_length;  // the squares (0: off)
   };
   const LocalizerSettings base = log_settings();
   const std::vector<Model> models = {
@@ -127,18 +128,16 @@ void intel_uncertain_map(const std::string& data, const std::string& out,
       scan.sigma_range = settings.sigma_range;
       const LocalizationResult res = loc->update(steps[k], scan);
       est.push_back({times[k], res.pose});
-      cov.push_back(res.has_covariance ? res.covariance
-                                       : Eigen::Matrix3d::Constant(std::nan("")));
+      cov.push_back(res.has_covariance ? res.covariance : Eigen::Matrix3d::Constant(std::nan("")));
     }
-    const double ms =
-        std::chrono::duration<double, std::milli>(Clock::now() - t0).count() / split;
+    const double ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count() / split;
     const eval::RelationMetricResult rel = eval::relation_metric(est, relations, ro);
     const eval::RelationNeesResult rn = eval::relation_nees(est, cov, relations);
-    std::printf("[intel] vdt-opt on the %-20s relations %zu: %.4f m / %.3f deg; relation NEES "
-                "n %zu, mean %.2f, median %.2f, %.1f %% <= 7.81; %.2f ms/scan\n",
-                (m.name + " map").c_str(), rel.used, rel.translation.mean,
-                rel.rotation.mean * kRadToDeg, rn.used, rn.mean, rn.median,
-                100.0 * rn.fraction_inside, ms);
+    std::printf(
+        "[intel] vdt-opt on the %-20s relations %zu: %.4f m / %.3f deg; relation NEES "
+        "n %zu, mean %.2f, median %.2f, %.1f %% <= 7.81; %.2f ms/scan\n",
+        (m.name + " map").c_str(), rel.used, rel.translation.mean, rel.rotation.mean * kRadToDeg,
+        rn.used, rn.mean, rn.median, 100.0 * rn.fraction_inside, ms);
     char line[512];
     std::snprintf(line, sizeof line, "%s,%zu,%.5f,%.4f,%zu,%.3f,%.3f,%.4f,%.3f\n", m.name.c_str(),
                   rel.used, rel.translation.mean, rel.rotation.mean * kRadToDeg, rn.used, rn.mean,
@@ -156,7 +155,8 @@ void intel_uncertain_map(const std::string& data, const std::string& out,
     for (int x = 0; x < size.x(); ++x) {
       const mapping::UncertainMapSample smp =
           map.evaluate(fs.frame().cell_center(Eigen::Vector2i(x, y)));
-      if (smp.inside) fs(Eigen::Vector2i(x, y)) = static_cast<float>(std::sqrt(smp.covariance.trace()));
+      if (smp.inside)
+        fs(Eigen::Vector2i(x, y)) = static_cast<float>(std::sqrt(smp.covariance.trace()));
     }
   }
   viz::Figure fig(1200, 1100, 1, 1);

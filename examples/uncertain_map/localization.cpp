@@ -43,11 +43,12 @@ void plot_tracks(const std::vector<std::string>& names, const std::vector<Track>
         lo[k] = -2.0 * s[k];
         hi[k] = 2.0 * s[k];
       }
-      ax.line(tr.t, lo, viz::Style().with_color(colours[m]).with_dashes().with_label(
-                            "+-2 sigma, " + names[m]));
+      ax.line(
+          tr.t, lo,
+          viz::Style().with_color(colours[m]).with_dashes().with_label("+-2 sigma, " + names[m]));
       ax.line(tr.t, hi, viz::Style().with_color(colours[m]).with_dashes());
-      ax.line(tr.t, e, viz::Style().with_color(colours[m]).with_width(1.0).with_label(
-                           "error, " + names[m]));
+      ax.line(tr.t, e,
+              viz::Style().with_color(colours[m]).with_width(1.0).with_label("error, " + names[m]));
     }
     if (axis == 0) ax.legend(viz::LegendLocation::kUpperRight);
   }
@@ -66,9 +67,10 @@ std::vector<LocalizationRow> localize_on_fitted_map(const mapping::UncertainVdtM
   const VdtMap2 vdt = map.to_vdt_map(0.05);
   const sim::SimulatedRun run =
       sim::simulate_run(world, drive, lidar, sim::NoiseProfile::table_3_2_sigma(), seed + 7919u);
-  std::printf("[localization] %zu scans of a new run through the Experiment 2 world, localized "
-              "on the fitted map (sampled at 0.05 m)\n",
-              run.size());
+  std::printf(
+      "[localization] %zu scans of a new run through the Experiment 2 world, localized "
+      "on the fitted map (sampled at 0.05 m)\n",
+      run.size());
   struct Model {
     std::string name;
     const mapping::UncertainVdtMap* uncertainty;
@@ -123,9 +125,10 @@ std::vector<LocalizationRow> localize_on_fitted_map(const mapping::UncertainVdtM
       row.anees = a.anees;
       row.anees_lo = a.interval.lower;
       row.anees_hi = a.interval.upper;
-      std::printf("  %-28s position RMSE %.4f m, heading RMSE %.5f rad, ANEES %.2f [%.2f, %.2f]%s\n",
-                  row.map_model.c_str(), row.pos_rmse, row.ori_rmse, row.anees, row.anees_lo,
-                  row.anees_hi, a.interval.contains(a.anees) ? "" : " (outside)");
+      std::printf(
+          "  %-28s position RMSE %.4f m, heading RMSE %.5f rad, ANEES %.2f [%.2f, %.2f]%s\n",
+          row.map_model.c_str(), row.pos_rmse, row.ori_rmse, row.anees, row.anees_lo, row.anees_hi,
+          a.interval.contains(a.anees) ? "" : " (outside)");
       rows.push_back(row);
       if (std::string(method) == "vdt-opt") opt_tracks.push_back(std::move(tr));
     }

@@ -80,8 +80,8 @@ BoundaryErrors boundary_errors(const mapping::UncertainVdtMap& map,
   for (std::size_t k = 0; k < truth.size(); k += step) {
     const mapping::UncertainMapSample s = map.evaluate(truth[k]);
     if (!s.inside || !s.covariance.allFinite()) continue;
-    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(
-        0.5 * (s.jacobian + s.jacobian.transpose()));
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(0.5 *
+                                                            (s.jacobian + s.jacobian.transpose()));
     const int i = std::abs(es.eigenvalues()[1]) >= std::abs(es.eigenvalues()[0]) ? 1 : 0;
     const Vector2d n = es.eigenvectors().col(i);
     out.add(n.dot(s.value), std::sqrt(std::max(0.0, n.dot(s.covariance * n))));
@@ -166,8 +166,10 @@ void plot_map(const mapping::UncertainVdtMap& map, const std::vector<Vector2d>& 
                      .with_alpha(0.35)
                      .with_label("observations (given poses)"))
         .scatter(tx, ty,
-                 viz::Style().with_color({0, 0, 0}).with_marker(viz::Marker::kCircle, 1).with_label(
-                     "true boundary"))
+                 viz::Style()
+                     .with_color({0, 0, 0})
+                     .with_marker(viz::Marker::kCircle, 1)
+                     .with_label("true boundary"))
         .scatter(zx, zy,
                  viz::Style()
                      .with_color({213, 94, 0})
@@ -209,8 +211,8 @@ sim::MappingScene corridor(const std::string& data, std::uint32_t seed) {
       // y ~ 48 m from x ~ 11 m to 36 m, cropped with its walls and the rooms' doorways.
       const OccupancyGrid<2> full = load_occupancy_image(pgm, Vector2d(54.0, 58.7), 0.1);
       const Eigen::Vector2i lo(80, 420), hi(380, 530);
-      OccupancyGrid<2> crop(hi - lo, GridFrame<2>(0.1, full.frame().cell_center(lo) -
-                                                           Vector2d(0.05, 0.05)));
+      OccupancyGrid<2> crop(hi - lo,
+                            GridFrame<2>(0.1, full.frame().cell_center(lo) - Vector2d(0.05, 0.05)));
       for (int y = 0; y < crop.size().y(); ++y) {
         for (int x = 0; x < crop.size().x(); ++x) {
           crop(Eigen::Vector2i(x, y)) = full(lo + Eigen::Vector2i(x, y));
@@ -227,8 +229,9 @@ sim::MappingScene corridor(const std::string& data, std::uint32_t seed) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"Uncertain VDT maps (thesis ch. 5): Experiments 1 and 2, Figs. 5.2-5.6, "
-               "localization on the fitted map, and the Intel lab with --data"};
+  CLI::App app{
+      "Uncertain VDT maps (thesis ch. 5): Experiments 1 and 2, Figs. 5.2-5.6, "
+      "localization on the fitted map, and the Intel lab with --data"};
   std::string out = "out/uncertain_map", data;
   unsigned seed = 1;
   int runs = 3;
@@ -303,9 +306,10 @@ int main(int argc, char** argv) {
         rows.push_back(r);
         rms.push_back(r.rms);
         mx.push_back(r.max);
-        std::printf("  h = %.2f m: %5d control points, |DT_v| at the true boundary rms %.4f m, "
-                    "max %.4f m\n",
-                    h, r.control_points, r.rms, r.max);
+        std::printf(
+            "  h = %.2f m: %5d control points, |DT_v| at the true boundary rms %.4f m, "
+            "max %.4f m\n",
+            h, r.control_points, r.rms, r.max);
       }
       viz::Figure fig(1200, 700, 1, 1);
       fig.axes(0, 0)
@@ -334,19 +338,19 @@ int main(int argc, char** argv) {
             scene.world, scene.poses, lidar, scaled, seed * 1000u + static_cast<unsigned>(r));
         mapping::UncertainMapOptions o;
         o.spacing = spacing;
-        auto map = std::make_unique<mapping::UncertainVdtMap>(
-            mapping::UncertainVdtMap::fit(run.scans, o));
+        auto map =
+            std::make_unique<mapping::UncertainVdtMap>(mapping::UncertainVdtMap::fit(run.scans, o));
         const auto& s = map->summary();
         const BoundaryErrors e = boundary_errors(*map, run.true_boundary, 4000);
-        std::printf("  [%s run %d/%d] %zu scans, %d control points, %d boundary points, %d "
-                    "Eikonal samples (%d on cut loci), %d scan poses: fit %.2f s (%d iterations%s), "
-                    "covariance %.2f s%s; true boundary rms %.4f m, max %.4f m, within 2 sigma "
-                    "%.1f %%\n",
-                    name.c_str(), r + 1, runs, run.scans.size(), s.control_points,
-                    s.boundary_points, s.eikonal_samples, s.cut_locus_samples, s.scan_poses,
-                    s.fit_seconds, s.iterations, s.converged ? "" : ", NOT converged",
-                    s.covariance_seconds, s.covariance_ok ? "" : " (FAILED)", e.rms(), e.max_abs,
-                    e.within_pct());
+        std::printf(
+            "  [%s run %d/%d] %zu scans, %d control points, %d boundary points, %d "
+            "Eikonal samples (%d on cut loci), %d scan poses: fit %.2f s (%d iterations%s), "
+            "covariance %.2f s%s; true boundary rms %.4f m, max %.4f m, within 2 sigma "
+            "%.1f %%\n",
+            name.c_str(), r + 1, runs, run.scans.size(), s.control_points, s.boundary_points,
+            s.eikonal_samples, s.cut_locus_samples, s.scan_poses, s.fit_seconds, s.iterations,
+            s.converged ? "" : ", NOT converged", s.covariance_seconds,
+            s.covariance_ok ? "" : " (FAILED)", e.rms(), e.max_abs, e.within_pct());
         std::fflush(stdout);
         if (r == 0) {
           row.control_points = s.control_points;
@@ -374,8 +378,7 @@ int main(int argc, char** argv) {
       lidar.fov = kPi;
       lidar.angular_resolution = 0.5 * kPi / 180.0;
       lidar.range_max = 10.0;
-      experiment("experiment1", room, lidar, sim::MappingNoise::table_5_1(), 0.2, nullptr,
-                 nullptr);
+      experiment("experiment1", room, lidar, sim::MappingNoise::table_5_1(), 0.2, nullptr, nullptr);
     }
 
     const sim::MappingScene c2 = corridor(data, seed);
@@ -384,11 +387,11 @@ int main(int argc, char** argv) {
     lidar2.range_max = 10.0;
     std::unique_ptr<mapping::UncertainVdtMap> map2;
     sim::MappingRun run2;
-    std::printf("[experiment2] %s: %zu key scans over %.1f s, 270 deg LiDAR (0.25 deg, 10 m), "
-                "Table 5.2 noise, h = 0.25 m, %d runs\n",
-                c2.name.c_str(), c2.poses.size(), drive.back().t, runs);
-    experiment("experiment2", c2, lidar2, sim::MappingNoise::table_5_2(), 0.25, &map2,
-               &run2);
+    std::printf(
+        "[experiment2] %s: %zu key scans over %.1f s, 270 deg LiDAR (0.25 deg, 10 m), "
+        "Table 5.2 noise, h = 0.25 m, %d runs\n",
+        c2.name.c_str(), c2.poses.size(), drive.back().t, runs);
+    experiment("experiment2", c2, lidar2, sim::MappingNoise::table_5_2(), 0.25, &map2, &run2);
 
     // ------------------------------------------------------------ localization on map 2
     const std::vector<study::LocalizationRow> loc =
@@ -426,8 +429,7 @@ int main(int argc, char** argv) {
                       r.pos_rmse, r.ori_rmse, r.anees, r.anees_lo, r.anees_hi);
         lcsv << line;
         std::snprintf(line, sizeof line, "| %s | %.4f | %.5f | %.2f [%.2f, %.2f] |\n",
-                      r.map_model.c_str(), r.pos_rmse, r.ori_rmse, r.anees, r.anees_lo,
-                      r.anees_hi);
+                      r.map_model.c_str(), r.pos_rmse, r.ori_rmse, r.anees, r.anees_lo, r.anees_hi);
         md << line;
       }
     }

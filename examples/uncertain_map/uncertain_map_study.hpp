@@ -21,11 +21,10 @@ struct LocalizationRow {
 /// Drives `drive` through `world` again (a new run of `lidar` with Table 3.2's odometry and range
 /// noise) and localizes it on the fitted map with vdt-opt and vdt-ekf, each with the constant
 /// per-reading map floor and with the map's own covariance; writes localization_errors.png.
-std::vector<LocalizationRow> localize_on_fitted_map(const vdtnav::mapping::UncertainVdtMap& map,
-                                                    const vdtnav::OccupancyGrid<2>& world,
-                                                    const std::vector<vdtnav::sim::TimedPose>& drive,
-                                                    const vdtnav::sim::LidarOptions& lidar,
-                                                    unsigned seed, const std::string& out);
+std::vector<LocalizationRow> localize_on_fitted_map(
+    const vdtnav::mapping::UncertainVdtMap& map, const vdtnav::OccupancyGrid<2>& world,
+    const std::vector<vdtnav::sim::TimedPose>& drive, const vdtnav::sim::LidarOptions& lidar,
+    unsigned seed, const std::string& out);
 
 /// What the Intel study states about its map-building run.
 struct IntelSettings {

@@ -602,8 +602,8 @@ bool VdtOptimizerT<Dim>::covariance(const Observations& scan, const Pose& pose,
   const MapUncertainty2* map_uncertainty = Dim == 2 ? model_.options().map_uncertainty : nullptr;
   std::vector<Vector> map_points;
   std::vector<GroupSensitivity> map_sens, map_groups;
-  const auto add_to_group = [&](int i, const GroupSensitivity& s,
-                                const BeamDisparityT<Dim>& b, double w) {
+  const auto add_to_group = [&](int i, const GroupSensitivity& s, const BeamDisparityT<Dim>& b,
+                                double w) {
     const Vector q = r * scan.points[i] + t;
     if (map_uncertainty != nullptr) {
       map_points.push_back(q);

@@ -63,8 +63,7 @@ bool MarginalCovariance::compute(const Eigen::SparseMatrix<double>& h, Eigen::In
     }
     z_[static_cast<std::size_t>(j0)] = diag;
   }
-  perm_.assign(llt_.permutationP().indices().data(),
-               llt_.permutationP().indices().data() + n);
+  perm_.assign(llt_.permutationP().indices().data(), llt_.permutationP().indices().data() + n);
 
   if (n_d > 0) {
     const Eigen::MatrixXd b = Eigen::MatrixXd(h.topRightCorner(n_a, n_d));
@@ -76,8 +75,7 @@ bool MarginalCovariance::compute(const Eigen::SparseMatrix<double>& h, Eigen::In
       return true;
     }
     // Y = Z B L^-T with L L^T = D - B^T Z B (the Schur complement of A).
-    const Eigen::MatrixXd s =
-        Eigen::MatrixXd(h.bottomRightCorner(n_d, n_d)) - b.transpose() * zb;
+    const Eigen::MatrixXd s = Eigen::MatrixXd(h.bottomRightCorner(n_d, n_d)) - b.transpose() * zb;
     const Eigen::LLT<Eigen::MatrixXd> schur(s);
     if (schur.info() != Eigen::Success) {
       z_.clear();

@@ -39,7 +39,8 @@ void scatter_control_jacobian(const double* d_c, double scale, double** jacobian
   for (int k = 0; k < 16; ++k) {
     if (jacobians[k] == nullptr) continue;
     for (int row = 0; row < 2; ++row) {
-      for (int ch = 0; ch < 2; ++ch) jacobians[k][row * 2 + ch] = scale * d_c[row * 32 + 2 * k + ch];
+      for (int ch = 0; ch < 2; ++ch)
+        jacobians[k][row * 2 + ch] = scale * d_c[row * 32 + 2 * k + ch];
     }
   }
 }
@@ -70,8 +71,8 @@ class EikonalCost final : public PatchCost {
 /// error dX as a 17th parameter block when it is estimated.
 class BoundaryCost final : public PatchCost {
  public:
-  BoundaryCost(const Eigen::Vector2d& corner, double h, const Pose2& pose,
-               const Eigen::Vector2d& p, double weight, bool pose_block)
+  BoundaryCost(const Eigen::Vector2d& corner, double h, const Pose2& pose, const Eigen::Vector2d& p,
+               double weight, bool pose_block)
       : corner_(corner), h_(h), pose_(pose), p_(p), weight_(weight), pose_block_(pose_block) {
     if (pose_block_) mutable_parameter_block_sizes()->push_back(3);
   }
@@ -264,19 +265,21 @@ struct UncertainVdtMap::Problem {
   [[nodiscard]] std::vector<double*> blocks(const Eigen::Vector2i& c) {
     std::vector<double*> out(16);
     for (int b = 0; b < 4; ++b) {
-      for (int a = 0; a < 4; ++a) out[a + 4 * b] = &map.coef_[2 * map.variable(c.x() + a, c.y() + b)];
+      for (int a = 0; a < 4; ++a)
+        out[a + 4 * b] = &map.coef_[2 * map.variable(c.x() + a, c.y() + b)];
     }
     return out;
   }
   /// Whether the nearest observed point jumps around p (a cut locus of the points' VDT).
-  [[nodiscard]] bool on_cut_locus(const Eigen::Vector2d& p,
-                                  const std::function<Eigen::Vector2d(const Eigen::Vector2d&)>&
-                                      nearest) const {
+  [[nodiscard]] bool on_cut_locus(
+      const Eigen::Vector2d& p,
+      const std::function<Eigen::Vector2d(const Eigen::Vector2d&)>& nearest) const {
     const double delta = 0.5 * map.h_;
     const Eigen::Vector2d c0 = nearest(p);
     const double limit = options.cut_locus_ratio * delta + 2.0 * raster_res;
-    for (const Eigen::Vector2d& step : {Eigen::Vector2d(delta, 0.0), Eigen::Vector2d(-delta, 0.0),
-                                        Eigen::Vector2d(0.0, delta), Eigen::Vector2d(0.0, -delta)}) {
+    for (const Eigen::Vector2d& step :
+         {Eigen::Vector2d(delta, 0.0), Eigen::Vector2d(-delta, 0.0), Eigen::Vector2d(0.0, delta),
+          Eigen::Vector2d(0.0, -delta)}) {
       if ((nearest(p + step) - c0).norm() > limit) return true;
     }
     return false;
@@ -320,8 +323,8 @@ struct UncertainVdtMap::Problem {
     double cost = 0.0;
     problem->Evaluate(eo, &cost, nullptr, nullptr, &crs);
     const Eigen::Map<const Eigen::SparseMatrix<double, Eigen::RowMajor>> j(
-        crs.num_rows, crs.num_cols, static_cast<Eigen::Index>(crs.values.size()),
-        crs.rows.data(), crs.cols.data(), crs.values.data());
+        crs.num_rows, crs.num_cols, static_cast<Eigen::Index>(crs.values.size()), crs.rows.data(),
+        crs.cols.data(), crs.values.data());
     const Eigen::SparseMatrix<double> jc = j;
     const Eigen::SparseMatrix<double> h = jc.transpose() * jc;
     Eigen::MatrixXd c;
@@ -334,8 +337,8 @@ struct UncertainVdtMap::Problem {
       }
     }
     MarginalCovariance mc;
-    map.summary_.covariance_ok = mc.compute(h, 2 * static_cast<Eigen::Index>(n_ctrl),
-                                            considered != nullptr ? &c : nullptr);
+    map.summary_.covariance_ok =
+        mc.compute(h, 2 * static_cast<Eigen::Index>(n_ctrl), considered != nullptr ? &c : nullptr);
     if (!map.summary_.covariance_ok) {
       map.summary_.message += " | covariance: H is not positive definite, no marginal blocks";
       map.summary_.covariance_seconds = seconds_since(t0);
@@ -354,7 +357,8 @@ struct UncertainVdtMap::Problem {
             if (a2 < 0 || b2 < 0 || a2 >= pw || b2 >= ph) continue;
             const int w = map.variable(a2, b2);
             if (w < 0) continue;
-            double* block = &map.cov_[(static_cast<std::size_t>(v) * 49 + (db + 3) * 7 + da + 3) * 4];
+            double* block =
+                &map.cov_[(static_cast<std::size_t>(v) * 49 + (db + 3) * 7 + da + 3) * 4];
             for (int r = 0; r < 2; ++r) {
               for (int c = 0; c < 2; ++c) block[2 * r + c] = mc.z(2 * v + r, 2 * w + c);
             }
@@ -383,8 +387,9 @@ UncertainVdtMap UncertainVdtMap::fit(const std::vector<MapScan>& scans,
   // The readings, at the given poses; non-finite ones are dropped.
   std::vector<Reading> readings;
   for (std::size_t s = 0; s < scans.size(); ++s) {
-    VDTNAV_CHECK(scans[s].pose.allFinite() && scans[s].pose_covariance.allFinite(),
-                 "uncertain map: scan " + std::to_string(s) + " has a non-finite pose or covariance");
+    VDTNAV_CHECK(
+        scans[s].pose.allFinite() && scans[s].pose_covariance.allFinite(),
+        "uncertain map: scan " + std::to_string(s) + " has a non-finite pose or covariance");
     const double sr = scans[s].points.sigma_range;
     VDTNAV_CHECK(std::isfinite(sr) && sr >= 0.0,
                  "uncertain map: scan " + std::to_string(s) + " has no valid range noise");
@@ -404,7 +409,8 @@ UncertainVdtMap UncertainVdtMap::fit(const std::vector<MapScan>& scans,
     std::unordered_map<std::int64_t, std::pair<int, int>> per_cell;  // (count, seen)
     const auto key = [&](int scan, const Eigen::Vector2i& c) {
       return (static_cast<std::int64_t>(scan) * (map.cells_.y() + 1) + c.y()) *
-                 (map.cells_.x() + 1) + c.x();
+                 (map.cells_.x() + 1) +
+             c.x();
     };
     for (std::size_t k = 0; k < readings.size(); ++k) {
       readings[k].cell = pb.cell_of(map.observed_[k]);
@@ -643,7 +649,8 @@ UncertainVdtMap UncertainVdtMap::approximate(
   }
   pb.add_control_prior(&problem);
   const ceres::Solver::Summary s = pb.solve(&problem);
-  for (std::size_t c = 0; c < used.size(); ++c) map.active_[c] = static_cast<char>(map.active_[c] && used[c]);
+  for (std::size_t c = 0; c < used.size(); ++c)
+    map.active_[c] = static_cast<char>(map.active_[c] && used[c]);
   map.summary_.converged = s.termination_type == ceres::CONVERGENCE;
   map.summary_.iterations = static_cast<int>(s.iterations.size());
   map.summary_.message = s.BriefReport();
@@ -702,8 +709,10 @@ UncertainMapSample UncertainVdtMap::evaluate(const Eigen::Vector2d& p) const {
     }
   }
   if (y_.cols() > 0) {
-    Eigen::Matrix<double, 2, Eigen::Dynamic> by = Eigen::Matrix<double, 2, Eigen::Dynamic>::Zero(2, y_.cols());
-    for (int k = 0; k < 16; ++k) by += b.w[k] * y_.middleRows<2>(2 * static_cast<Eigen::Index>(var[k]));
+    Eigen::Matrix<double, 2, Eigen::Dynamic> by =
+        Eigen::Matrix<double, 2, Eigen::Dynamic>::Zero(2, y_.cols());
+    for (int k = 0; k < 16; ++k)
+      by += b.w[k] * y_.middleRows<2>(2 * static_cast<Eigen::Index>(var[k]));
     cov.noalias() += by * by.transpose();
   }
   out.covariance = 0.5 * (cov + cov.transpose());
@@ -770,8 +779,10 @@ Eigen::Matrix3d UncertainVdtMap::propagate(const std::vector<Eigen::Vector2d>& q
   }
   // (sum_m g_m Y_m)(sum_m g_m Y_m)^T: the scans' pose errors, shared by every control point.
   if (y_.cols() > 0) {
-    Eigen::Matrix<double, 3, Eigen::Dynamic> gy = Eigen::Matrix<double, 3, Eigen::Dynamic>::Zero(3, y_.cols());
-    for (const auto& [v, gv] : g) gy.noalias() += gv * y_.middleRows<2>(2 * static_cast<Eigen::Index>(v));
+    Eigen::Matrix<double, 3, Eigen::Dynamic> gy =
+        Eigen::Matrix<double, 3, Eigen::Dynamic>::Zero(3, y_.cols());
+    for (const auto& [v, gv] : g)
+      gy.noalias() += gv * y_.middleRows<2>(2 * static_cast<Eigen::Index>(v));
     out.noalias() += gy * gy.transpose();
   }
   return 0.5 * (out + out.transpose());
@@ -795,7 +806,8 @@ VdtMap2 UncertainVdtMap::to_vdt_map(double resolution) const {
     for (int x = 0; x < size.x(); ++x) {
       const Eigen::Vector2d c = occupied.frame().cell_center(Eigen::Vector2i(x, y));
       const UncertainMapSample s = evaluate(c);
-      const Eigen::Vector2d v = s.inside ? s.value : Eigen::Vector2d(c - exact.nearest_occupied_point(c));
+      const Eigen::Vector2d v =
+          s.inside ? s.value : Eigen::Vector2d(c - exact.nearest_occupied_point(c));
       const std::size_t k = (static_cast<std::size_t>(y) * size.x() + x) * 2;
       samples[k] = static_cast<float>(v.x());
       samples[k + 1] = static_cast<float>(v.y());

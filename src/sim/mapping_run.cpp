@@ -23,9 +23,9 @@ MappingRun simulate_mapping_run(const OccupancyGrid<2>& world, const std::vector
   VDTNAV_CHECK(std::isfinite(lidar.fov) && lidar.fov > 0.0 && lidar.fov <= kTwoPi &&
                    std::isfinite(lidar.angular_resolution) && lidar.angular_resolution > 0.0,
                "simulate_mapping_run: lidar fov must be in (0, 2 pi] and its resolution > 0");
-  VDTNAV_CHECK(lidar.range_min >= 0.0 && lidar.range_max > lidar.range_min &&
-                   std::isfinite(lidar.range_max),
-               "simulate_mapping_run: lidar ranges must satisfy 0 <= range_min < range_max < inf");
+  VDTNAV_CHECK(
+      lidar.range_min >= 0.0 && lidar.range_max > lidar.range_min && std::isfinite(lidar.range_max),
+      "simulate_mapping_run: lidar ranges must satisfy 0 <= range_min < range_max < inf");
   for (double s : {noise.sigma_xy, noise.sigma_phi, noise.sigma_range, lidar.sigma_range}) {
     VDTNAV_CHECK(std::isfinite(s) && s >= 0.0, "simulate_mapping_run: noise sigmas must be >= 0");
   }
@@ -42,7 +42,8 @@ MappingRun simulate_mapping_run(const OccupancyGrid<2>& world, const std::vector
   run.truth = truth;
   for (std::size_t k = 0; k < truth.size(); ++k) {
     const Pose2& x = truth[k];
-    VDTNAV_CHECK(x.allFinite(), "simulate_mapping_run: pose " + std::to_string(k) + " is not finite");
+    VDTNAV_CHECK(x.allFinite(),
+                 "simulate_mapping_run: pose " + std::to_string(k) + " is not finite");
     mapping::MapScan scan;
     scan.pose = x;
     scan.pose[0] += noise.sigma_xy * normal(pose_rng);
@@ -56,8 +57,8 @@ MappingRun simulate_mapping_run(const OccupancyGrid<2>& world, const std::vector
       const double theta = -0.5 * lidar.fov + b * lidar.angular_resolution;
       const double eps = normal(range_rng);  // one draw per beam, hit or not
       const Eigen::Vector2d u_world(std::cos(sensor[2] + theta), std::sin(sensor[2] + theta));
-      const double r0 = cast_ray<2>(world, sensor.head<2>(), u_world, lidar.range_max,
-                                    RaySurface::kCellCentre);
+      const double r0 =
+          cast_ray<2>(world, sensor.head<2>(), u_world, lidar.range_max, RaySurface::kCellCentre);
       if (!std::isfinite(r0) || r0 < lidar.range_min) continue;
       const double r = std::max(0.0, r0 + noise.sigma_range * eps);
       const Eigen::Vector2d u_robot =
@@ -80,7 +81,8 @@ MappingScene l_shaped_room(double resolution) {
   // run through them and the world's VDT is zero on them.
   const int n = static_cast<int>(std::lround(7.0 / resolution)) + 1;
   scene.world = OccupancyGrid<2>(
-      Eigen::Vector2i(n, n), GridFrame<2>(resolution, Eigen::Vector2d::Constant(-0.5 - 0.5 * resolution)));
+      Eigen::Vector2i(n, n),
+      GridFrame<2>(resolution, Eigen::Vector2d::Constant(-0.5 - 0.5 * resolution)));
   const std::vector<Eigen::Vector2d> corners = {{0, 0}, {6, 0}, {6, 3}, {3, 3}, {3, 6}, {0, 6}};
   for (std::size_t i = 0; i < corners.size(); ++i) {
     const Eigen::Vector2d a = corners[i], b = corners[(i + 1) % corners.size()];

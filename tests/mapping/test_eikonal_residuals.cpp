@@ -41,8 +41,8 @@ Patch random_patch(std::mt19937& rng) {
 /// Control points of the linear field DT_v(p) = a (p - o): a B-spline reproduces it exactly when
 /// control point (i - 1 + a, j - 1 + b) of the cell with lower corner `corner` takes its value at
 /// its node.
-Patch linear_patch(const Eigen::Matrix2d& a, const Eigen::Vector2d& o, const Eigen::Vector2d& corner,
-                   double h) {
+Patch linear_patch(const Eigen::Matrix2d& a, const Eigen::Vector2d& o,
+                   const Eigen::Vector2d& corner, double h) {
   Patch p;
   for (int b = 0; b < 4; ++b) {
     for (int aa = 0; aa < 4; ++aa) {
@@ -109,8 +109,8 @@ TEST(SplinePatch, ReproducesALinearField) {
   Eigen::Matrix2d a;
   a << 0.8, 0.3, -0.2, 0.5;
   const Patch p = linear_patch(a, o, corner, h);
-  for (const Eigen::Vector2d& t : {Eigen::Vector2d(0.1, 0.7), Eigen::Vector2d(0.5, 0.5),
-                                  Eigen::Vector2d(0.95, 0.02)}) {
+  for (const Eigen::Vector2d& t :
+       {Eigen::Vector2d(0.1, 0.7), Eigen::Vector2d(0.5, 0.5), Eigen::Vector2d(0.95, 0.02)}) {
     Eigen::Vector2d v;
     Eigen::Matrix2d j;
     spline_field(spline_patch_basis(t.x(), t.y(), h), p.ptr.data(), &v, &j);
@@ -129,8 +129,8 @@ TEST(EikonalResiduals, JacobiansMatchCentralDifferences) {
       double r[2], d_c[64];
       f(b, p.ptr.data(), r, d_c);
       const Eigen::Map<const Eigen::Matrix<double, 2, 32, Eigen::RowMajor>> analytic(d_c);
-      const Eigen::Matrix<double, 2, 32> numeric = numeric_dc(
-          p, [&](const double* const* c, double* out) { f(b, c, out, nullptr); });
+      const Eigen::Matrix<double, 2, 32> numeric =
+          numeric_dc(p, [&](const double* const* c, double* out) { f(b, c, out, nullptr); });
       EXPECT_LT((analytic - numeric).cwiseAbs().maxCoeff(), 1e-6 * (1.0 + numeric.norm()))
           << "trial " << trial;
     }
@@ -152,7 +152,7 @@ TEST(EikonalResiduals, VanishOnTheVdtOfAWallAndNotOnAFlattenedField) {
     EXPECT_NEAR(r[0], 0.0, 1e-12);
     EXPECT_NEAR(r[1], 0.0, 1e-12);
     hessian_eikonal_residual(b, flat.ptr.data(), r, nullptr);
-    EXPECT_NEAR(r[0], 0.7, 1e-12);  // det(diag(-1, -0.7))
+    EXPECT_NEAR(r[0], 0.7, 1e-12);               // det(diag(-1, -0.7))
     if (std::abs(corner.y() + ty * h) > 0.04) {  // away from the wall, the vector form too
       eikonal_residual(b, exact.ptr.data(), r, nullptr);
       EXPECT_LT(std::hypot(r[0], r[1]), 1e-9);
@@ -175,8 +175,8 @@ TEST(BoundaryResidual, IsTheFieldAtTheEndpointWithItsJacobians) {
     double r[2], d_c[64], d_x[6];
     boundary_residual(corner, h, pose, dx, p, c.ptr.data(), r, d_c, d_x);
     // The value: the patch at o = R(phi + dphi) p + t + dt.
-    const Eigen::Vector2d o = Eigen::Rotation2Dd(pose[2] + dx[2]) * p + pose.head<2>() +
-                              Eigen::Vector2d(dx[0], dx[1]);
+    const Eigen::Vector2d o =
+        Eigen::Rotation2Dd(pose[2] + dx[2]) * p + pose.head<2>() + Eigen::Vector2d(dx[0], dx[1]);
     const Eigen::Vector2d t = (o - corner) / h;
     ASSERT_TRUE(t.minCoeff() > 0.0 && t.maxCoeff() < 1.0);
     Eigen::Vector2d v;

@@ -12,7 +12,7 @@ namespace vdtnav::mapping {
 
 /// \brief One scan the map is built from (thesis 5.2.3: X_R with cov(X_R), and S_{r theta}).
 struct MapScan {
-  Pose2 pose = Pose2::Zero();  ///< estimated robot pose (x, y, phi)
+  Pose2 pose = Pose2::Zero();                                 ///< estimated robot pose (x, y, phi)
   Eigen::Matrix3d pose_covariance = Eigen::Matrix3d::Zero();  ///< of (x, y, phi); 0: exact
   ScanPoints points;  ///< readings as robot-frame points (sigma_range is the range noise)
 };

@@ -79,7 +79,7 @@ struct UncertainMapOptions {
   /// Metres around the observed points where the map is defined (Eikonal samples, unknowns);
   /// < 0: max(0.75, 3 h), past the default gate (0.5 m) of the sensor model.
   double band = -1.0;
-  int samples_per_axis = 2;      ///< Eikonal samples per cell and axis
+  int samples_per_axis = 2;    ///< Eikonal samples per cell and axis
   double eikonal_sigma = 0.2;  ///< sigma of r_E (dimensionless): 1 / sqrt(rho_e)
   /// Eikonal samples closer than this to an observed point take the form of r_E that holds
   /// across the boundary (see the file comment); < 0: h / 2.
@@ -109,23 +109,23 @@ struct UncertainMapOptions {
 
 /// \brief What a fit did.
 struct UncertainMapSummary {
-  bool converged = false;           ///< Ceres reached a minimum within max_iterations
-  bool covariance_ok = false;       ///< the marginal blocks were computed (H positive definite)
-  std::string message;              ///< Ceres's report, or why the covariance failed
+  bool converged = false;      ///< Ceres reached a minimum within max_iterations
+  bool covariance_ok = false;  ///< the marginal blocks were computed (H positive definite)
+  std::string message;         ///< Ceres's report, or why the covariance failed
   int iterations = 0;
-  int control_points = 0;           ///< unknown control points (2 coefficients each)
+  int control_points = 0;  ///< unknown control points (2 coefficients each)
   int boundary_points = 0;
   int eikonal_samples = 0;
-  int cut_locus_samples = 0;        ///< samples removed near cut loci
-  int scan_poses = 0;               ///< scans whose pose errors were estimated (3 unknowns each)
+  int cut_locus_samples = 0;  ///< samples removed near cut loci
+  int scan_poses = 0;         ///< scans whose pose errors were estimated (3 unknowns each)
   double initial_cost = 0.0, final_cost = 0.0;
   double fit_seconds = 0.0, covariance_seconds = 0.0;
 };
 
 /// \brief DT_v at a point with its Jacobian and covariance.
 struct UncertainMapSample {
-  Eigen::Vector2d value = Eigen::Vector2d::Zero();     ///< DT_v, metres
-  Eigen::Matrix2d jacobian = Eigen::Matrix2d::Zero();  ///< dDT_v/dp (row c: gradient of DT_c)
+  Eigen::Vector2d value = Eigen::Vector2d::Zero();       ///< DT_v, metres
+  Eigen::Matrix2d jacobian = Eigen::Matrix2d::Zero();    ///< dDT_v/dp (row c: gradient of DT_c)
   Eigen::Matrix2d covariance = Eigen::Matrix2d::Zero();  ///< cov(DT_v), metres^2
   bool inside = false;  ///< the point is in the fitted band (else everything is zero)
 };
@@ -199,9 +199,9 @@ class UncertainVdtMap final : public MapUncertainty<2> {
   std::vector<char> active_;                         // per cell
   /// Per cell: the variance of DT_v the spline cannot follow there (see fit()), metres^2.
   std::vector<float> approximation_var_;
-  std::vector<int> vars_;                            // per padded control point
-  std::vector<int> v_col_, v_row_;                   // padded lattice position per variable
-  std::vector<double> coef_;                         // 2 per variable
+  std::vector<int> vars_;           // per padded control point
+  std::vector<int> v_col_, v_row_;  // padded lattice position per variable
+  std::vector<double> coef_;        // 2 per variable
   /// Per variable and neighbour offset (da, db) in [-3, 3]^2: the 2 x 2 block
   /// Z(c_var, c_neighbour), row-major; NaN where the neighbour is not an unknown. Empty: no
   /// covariance.

@@ -32,8 +32,8 @@ struct MappingNoise {
 
 /// \brief A simulated map-building run.
 struct MappingRun {
-  std::vector<Pose2> truth;               ///< true pose of every scan
-  std::vector<mapping::MapScan> scans;    ///< estimated poses, their covariance, noisy readings
+  std::vector<Pose2> truth;             ///< true pose of every scan
+  std::vector<mapping::MapScan> scans;  ///< estimated poses, their covariance, noisy readings
   /// Where the readings would end without range noise, from the true poses (world frame): the
   /// part of the world's boundary the run observed.
   std::vector<Eigen::Vector2d> true_boundary;

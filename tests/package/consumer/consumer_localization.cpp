@@ -35,8 +35,7 @@ int main() {
                       wall.covariance(1, 1) > 0.0 && std::isfinite(wall.covariance(1, 1));
   std::printf("uncertain map: DT_y %g, sigma %g at a wall %s\n", wall.value.y(),
               std::sqrt(wall.covariance(1, 1)), map_ok ? "ok" : "WRONG");
-  const bool ok =
-      map_ok && r.has_covariance && (r.pose - Pose2(2.0, 1.5, 0.0)).norm() < 2e-3;
+  const bool ok = map_ok && r.has_covariance && (r.pose - Pose2(2.0, 1.5, 0.0)).norm() < 2e-3;
   std::printf("pose (%g, %g, %g) %s: %s\n", r.pose[0], r.pose[1], r.pose[2], to_string(r.status),
               ok ? "ok" : "WRONG");
   return ok ? 0 : 1;
