@@ -31,7 +31,7 @@
 ///  - optionally (estimate_scan_poses) the scans' pose errors dX_s are unknowns with the prior
 ///    N(0, cov(X_s)), o_k = R(phi_s + dphi_s) p_k + t_s + dt_s, and sigma_k drops sigma_X,k: the
 ///    scans are aligned by the way. Measured on Experiment 2 (README), the alignment is biased —
-///    started at the true poses it moves them 4 cm away, absorbing what the spline cannot follow
+///    started at the true poses it moves them 4.4 cm away, absorbing what the spline cannot follow
 ///    at corners into the poses — so the default holds the poses and considers their errors.
 ///  - a weak prior N(c0, prior_sigma^2) on every control point (c0: the exact VDT of the observed
 ///    points at the control point) keeps the control points at the band's edge determined.
@@ -50,10 +50,15 @@
 /// of A's sparse Cholesky factor by Takahashi's recursion; Y (control points x 3 per scan) carries
 /// the scans' shared pose errors exactly. Never a dense inverse of A.
 ///
+/// What the spline cannot follow (corners come out rounded, thesis 5.4; a staircase of cells is
+/// smoothed) is not in cov(c): it is measured per cell from the readings of each scan there, whose
+/// scatter about their own mean holds no pose error (see fit()), and added as a variance of DT_v
+/// shared by the cell.
+///
 /// A query returns DT_v, its Jacobian and the 2 x 2 covariance of DT_v, B cov(c) B^T over the
-/// cell's 16 control points; propagate() gives a pose estimate's map term with the correlations
-/// between its readings' endpoints (the local blocks of Z within three control points, and all
-/// of Y Y^T).
+/// cell's 16 control points plus the cell's approximation variance; propagate() gives a pose
+/// estimate's map term with the correlations between its readings' endpoints (the local blocks of
+/// Z within three control points, all of Y Y^T, and the approximation variance per cell).
 
 #include <array>
 #include <cstddef>
