@@ -145,18 +145,22 @@ TEST(UncertainVdtMap, PropagateOfOnePointIsItsCovarianceAndSkipsPointsOutside) {
   const UncertainVdtMap map = UncertainVdtMap::fit(run.scans, o);
   MapUncertainty2::Sensitivity s;
   s << 1.0, 0.5, -0.3, 2.0, 0.7, -1.1;
-  for (std::size_t k = 0; k < run.true_boundary.size(); k += 97) {
+  int checked = 0;
+  for (std::size_t k = 0; k < run.true_boundary.size(); k += 37) {
     const Eigen::Vector2d q = run.true_boundary[k];
     Eigen::Matrix2d c;
-    ASSERT_TRUE(map.dt_covariance(q, &c));
+    const bool inside = map.dt_covariance(q, &c);
     std::vector<char> known;
     const Eigen::Matrix3d p = map.propagate({q, Eigen::Vector2d(50.0, 50.0)}, {s, s}, &known);
     ASSERT_EQ(known.size(), 2u);
-    EXPECT_TRUE(known[0]);
+    EXPECT_EQ(known[0] != 0, inside);
     EXPECT_FALSE(known[1]);
+    if (!inside) continue;  // a cell the map left out (no residual, or a cut locus)
     const Eigen::Matrix3d expected = s * c * s.transpose();
     EXPECT_LT((p - expected).norm(), 1e-9 * expected.norm()) << k;
+    ++checked;
   }
+  EXPECT_GT(checked, 20);
   // Two points of one wall a metre apart share the scans' pose errors: correlated.
   const Eigen::Vector2d a(0.0, 1.5), b(0.0, 2.5);
   MapUncertainty2::Sensitivity ex = MapUncertainty2::Sensitivity::Zero();
