@@ -51,9 +51,10 @@
 /// the scans' shared pose errors exactly. Never a dense inverse of A.
 ///
 /// What the spline cannot follow (corners come out rounded, thesis 5.4; a staircase of cells is
-/// smoothed) is not in cov(c): it is measured per cell from the readings of each scan there, whose
-/// scatter about their own mean holds no pose error (see fit()), and added as a variance of DT_v
-/// shared by the cell.
+/// smoothed) is not in cov(c): it is measured per cell from the readings' residuals, with each
+/// scan's pose error (fitted to all its readings) taken out and the range noise and the field's
+/// own variance subtracted, and added as a variance of DT_v shared by the cell. Where no reading
+/// shows it — a wall end the spline extends a few centimetres into a doorway — it stays unknown.
 ///
 /// A query returns DT_v, its Jacobian and the 2 x 2 covariance of DT_v, B cov(c) B^T over the
 /// cell's 16 control points plus the cell's approximation variance; propagate() gives a pose
