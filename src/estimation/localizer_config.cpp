@@ -35,6 +35,11 @@ const Names<RobustLoss> kLosses{
 const Names<CovarianceMethod> kCovarianceMethods{
     {"implicit_function", CovarianceMethod::kImplicitFunction},
     {"gauss_newton", CovarianceMethod::kGaussNewton}};
+const Names<BeamStrategy> kBeamStrategies{{"active-trace", BeamStrategy::kActiveTrace},
+                                          {"active-det", BeamStrategy::kActiveDet},
+                                          {"active-fisher", BeamStrategy::kActiveFisher},
+                                          {"passive-fixed", BeamStrategy::kPassiveFixed},
+                                          {"passive-rotate", BeamStrategy::kPassiveRotate}};
 const Names<MotionModelKind> kMotionModels{
     {"velocity", MotionModelKind::kVelocity},
     {"odometry_increment", MotionModelKind::kOdometryIncrement}};
@@ -195,7 +200,33 @@ void visit(V& v, ParticleFilterOptions& o) {
 }
 
 template <typename V>
+void visit(V& v, RotatingBeamOptions& o) {
+  v.number("rotation_range", o.rotation_range, "rad", "the beam turns within this, centred ahead");
+  v.number("angular_velocity", o.angular_velocity, "rad/s", "how fast the beam turns");
+  v.integer("segments", o.segments, "count", "n, the goal segments of the rotation range");
+  v.number("lambda", o.lambda, "m^2 per segment", "weight of the motion in the cost (4.1)");
+  v.number("range_min", o.range_min, "m", "closer readings are not used");
+  v.number("range_max", o.range_max, "m", "further readings are not used");
+  v.number("sigma_range", o.sigma_range, "m", "range noise of the hypothetical readings");
+  v.number("hypothesis_resolution", o.hypothesis_resolution, "rad",
+           "spacing of a segment's hypothetical readings");
+}
+
+template <typename V>
+void visit(V& v, ActiveBeamLocalizerOptions& o) {
+  v.choice("strategy", o.strategy, kBeamStrategies,
+           "active-trace (4.1), active-det, active-fisher, passive-fixed or passive-rotate");
+  v.number("bearing_tolerance", o.bearing_tolerance, "rad",
+           "a scan's reading nearest the beam's bearing is kept if within this");
+  v.section("beam", "the rotating single-beam sensor (Table 4.3 by default)",
+            [&](V& s) { visit(s, o.beam); });
+  v.section("ekf", "the VDT EKF it updates (keys of vdt-ekf)", [&](V& s) { visit(s, o.ekf); });
+}
+
+template <typename V>
 void visit_section(V& v, const std::string& section, LocalizerSettings& s) {
+  if (section == "active-ekf") visit(v, s.active_ekf);
+  if (section == "passive-ekf") visit(v, s.passive_ekf);
   if (section == "vdt-opt") visit(v, s.vdt_opt);
   if (section == "vdt-ekf") visit(v, s.vdt_ekf);
   if (section == "udt") visit(v, s.udt);
@@ -206,11 +237,14 @@ const char* section_doc(const std::string& section) {
   if (section == "vdt-opt") return "optimization localizer on the VDT (thesis 3.2)";
   if (section == "vdt-ekf") return "EKF on the VDT (thesis 3.3)";
   if (section == "udt") return "UDT baselines udt-opt and udt-ekf (chamfer matching)";
+  if (section == "active-ekf") return "one reading per scan, the beam pointed by (4.1) (ch. 4)";
+  if (section == "passive-ekf") return "one reading per scan, the beam not pointed (ch. 4)";
   return "particle filter (AMCL's likelihood field)";
 }
 
 const std::vector<std::string>& sections() {
-  static const std::vector<std::string> kSections{"vdt-opt", "vdt-ekf", "udt", "pf"};
+  static const std::vector<std::string> kSections{"vdt-opt", "vdt-ekf",    "udt",
+                                                  "pf",      "active-ekf", "passive-ekf"};
   return kSections;
 }
 
@@ -407,7 +441,8 @@ LocalizerSettings parse_localizer_config(const std::string& text, const std::str
   if (!root || root.IsNull()) return s;  // an empty file: the defaults
   if (!root.IsMap()) {
     throw ConfigError(source + ":" + std::to_string(root.Mark().line + 1) +
-                      ": expected a mapping of sections (vdt-opt, vdt-ekf, udt, pf)");
+                      ": expected a mapping of sections (vdt-opt, vdt-ekf, udt, pf, active-ekf, "
+                      "passive-ekf)");
   }
   for (auto it = root.begin(); it != root.end(); ++it) {
     const std::string name = it->first.as<std::string>();
@@ -415,7 +450,8 @@ LocalizerSettings parse_localizer_config(const std::string& text, const std::str
     for (const std::string& sec : sections()) known = known || sec == name;
     if (!known) {
       throw ConfigError(source + ":" + std::to_string(it->first.Mark().line + 1) +
-                        ": unknown section '" + name + "' (known: vdt-opt, vdt-ekf, udt, pf)");
+                        ": unknown section '" + name +
+                        "' (known: vdt-opt, vdt-ekf, udt, pf, active-ekf, passive-ekf)");
     }
     Reader r(it->second, source, name);
     visit_section(r, name, s);

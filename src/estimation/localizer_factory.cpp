@@ -5,7 +5,8 @@
 namespace vdtnav {
 
 const std::vector<std::string>& localizer_methods() {
-  static const std::vector<std::string> kMethods{"vdt-opt", "vdt-ekf", "udt-opt", "udt-ekf", "pf"};
+  static const std::vector<std::string> kMethods{"vdt-opt", "vdt-ekf",    "udt-opt",    "udt-ekf",
+                                                 "pf",      "active-ekf", "passive-ekf"};
   return kMethods;
 }
 
@@ -13,6 +14,8 @@ LocalizerSettings log_settings() {
   LocalizerSettings s;
   s.vdt_ekf.motion = MotionModelKind::kOdometryIncrement;
   s.udt.motion = MotionModelKind::kOdometryIncrement;
+  s.active_ekf.ekf.motion = MotionModelKind::kOdometryIncrement;
+  s.passive_ekf.ekf.motion = MotionModelKind::kOdometryIncrement;
   s.vdt_opt.loss = RobustLoss::kCauchy;
   s.vdt_opt.loss_scale = 0.05;
   s.vdt_opt.search.search_below = 0.95;
@@ -34,6 +37,12 @@ std::unique_ptr<Localizer2D> make_localizer(const std::string& method, const Vdt
     return std::make_unique<UdtOptimizationLocalizer>(occupancy, settings.udt);
   if (method == "udt-ekf") return std::make_unique<UdtEkfLocalizer>(occupancy, settings.udt);
   if (method == "pf") return std::make_unique<ParticleFilterLocalizer>(occupancy, settings.pf);
+  if (method == "active-ekf") {
+    return std::make_unique<ActiveBeamLocalizer>(vdt, settings.active_ekf, "active-ekf");
+  }
+  if (method == "passive-ekf") {
+    return std::make_unique<ActiveBeamLocalizer>(vdt, settings.passive_ekf, "passive-ekf");
+  }
   std::string known;
   for (const auto& m : localizer_methods()) known += (known.empty() ? "" : ", ") + m;
   throw ConfigError("unknown localization method '" + method + "' (expected one of: " + known +

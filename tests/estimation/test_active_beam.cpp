@@ -3,6 +3,7 @@
 // gradient of the Fisher prediction against finite differences, the segment a corridor makes the
 // selector choose, and the beam's sweep.
 #include "vdtnav/estimation/active_beam.hpp"
+#include "vdtnav/estimation/active_beam_localizer.hpp"
 
 #include <gtest/gtest.h>
 
@@ -15,7 +16,9 @@
 #include "scan_fixture.hpp"
 #include "vdtnav/core/error.hpp"
 #include "vdtnav/estimation/vdt_ekf.hpp"
+#include "vdtnav/sim/lidar_simulator.hpp"
 #include "vdtnav/sim/ray_casting.hpp"
+#include "vdtnav/sim/trajectory.hpp"
 
 namespace vdtnav {
 namespace {
@@ -223,6 +226,44 @@ TEST(ActiveBeam, ControllerSweepsToTheFarEndOfTheGoalAtItsAngularVelocity) {
   RotatingBeamOptions bad = beam;
   bad.segments = 0;
   EXPECT_THROW(RotatingBeamController(bad, BeamStrategy::kActiveTrace), ConfigError);
+}
+
+}  // namespace
+}  // namespace vdtnav
+
+namespace vdtnav {
+namespace {
+
+/// The Localizer2D form (`vdtnav localize --method active-ekf`): full 40 Hz scans in, one reading
+/// per scan used, the beam turning; it tracks a drive through the generated floor plan.
+TEST(ActiveBeamLocalizer, KeepsOneReadingPerScanAndTracksADrive) {
+  sim::TrajectoryOptions t;
+  t.rate_hz = 40.0;
+  t.min_steps = 1200;  // 30 s
+  const auto drive = sim::follow_path(world().plan.tour, world().plan.occupancy, t);
+  sim::LidarOptions lidar;  // UTM-30LX-like, 270 degrees at 0.25 degrees
+  const sim::SimulatedRun run = sim::simulate_run(
+      world().plan.occupancy, std::vector<sim::TimedPose>(drive.begin(), drive.begin() + 1200),
+      lidar, sim::NoiseProfile::table_3_2_sigma(), 5);
+  for (const BeamStrategy s : {BeamStrategy::kActiveTrace, BeamStrategy::kPassiveRotate}) {
+    ActiveBeamLocalizerOptions o;
+    o.strategy = s;
+    ActiveBeamLocalizer loc(world().map, o, to_string(s));
+    loc.reset(run.truth[0], Eigen::Vector3d(0.05 * 0.05, 0.05 * 0.05, 0.02 * 0.02).asDiagonal());
+    double worst = 0.0, min_bearing = 10.0, max_bearing = -10.0;
+    int updates = 0;
+    for (std::size_t k = 0; k < run.size(); ++k) {
+      const LocalizationResult r = loc.update(run.odometry[k], run.scans[k]);
+      EXPECT_LE(r.inliers, 1);
+      updates += r.status == LocalizationStatus::kConverged ? 1 : 0;
+      worst = std::max(worst, (r.pose.head<2>() - run.truth[k].head<2>()).norm());
+      min_bearing = std::min(min_bearing, loc.bearing());
+      max_bearing = std::max(max_bearing, loc.bearing());
+    }
+    EXPECT_GT(updates, static_cast<int>(run.size()) / 2) << to_string(s);
+    EXPECT_LT(worst, 0.2) << to_string(s);
+    EXPECT_GT(max_bearing - min_bearing, 0.5) << to_string(s);  // the beam turned
+  }
 }
 
 }  // namespace

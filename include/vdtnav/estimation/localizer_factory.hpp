@@ -1,12 +1,14 @@
 #pragma once
 /// \file
 /// \brief Every 2D localizer by its table name ("vdt-opt", "vdt-ekf", "udt-opt", "udt-ekf",
-/// "pf"), so that command-line tools and studies run them side by side on the same data.
+/// "pf", "active-ekf", "passive-ekf"), so that command-line tools and studies run them side by
+/// side on the same data.
 
 #include <memory>
 #include <string>
 #include <vector>
 
+#include "vdtnav/estimation/active_beam_localizer.hpp"
 #include "vdtnav/estimation/localizer.hpp"
 #include "vdtnav/estimation/particle_filter.hpp"
 #include "vdtnav/estimation/udt_localizers.hpp"
@@ -21,6 +23,16 @@ struct LocalizerSettings {
   VdtEkfOptions vdt_ekf;
   UdtOptions udt;
   ParticleFilterOptions pf;
+  /// One reading per scan along a rotating beam (thesis ch. 4): pointed by goal selection (4.1).
+  ActiveBeamLocalizerOptions active_ekf;
+  /// The same sensor kept at the robot's heading (or turning blindly: strategy passive-rotate).
+  ActiveBeamLocalizerOptions passive_ekf = passive_beam();
+
+  [[nodiscard]] static ActiveBeamLocalizerOptions passive_beam() {
+    ActiveBeamLocalizerOptions o;
+    o.strategy = BeamStrategy::kPassiveFixed;
+    return o;
+  }
 };
 
 /// \brief Settings for real logs localized on a map built from scans (the `vdtnav localize`
