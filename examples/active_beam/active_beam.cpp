@@ -29,6 +29,7 @@
 #include "vdtnav/eval/nees.hpp"
 #include "vdtnav/io/occupancy_image.hpp"
 #include "vdtnav/io/ros_map.hpp"
+#include "vdtnav/map/surface_roughness.hpp"
 #include "vdtnav/sim/floor_plan.hpp"
 #include "vdtnav/sim/ray_casting.hpp"
 #include "vdtnav/sim/route_planner.hpp"
@@ -51,6 +52,7 @@ struct Dataset {
   OccupancyGrid<2> world;
   std::vector<sim::TimedPose> drive;
   RotatingBeamOptions beam;
+  double map_sigma = -1.0;  ///< the EKF's per-reading map floor
 };
 
 /// Odometry of the drive with Table 3.2's noise read as sigmas (sim/lidar_simulator.hpp).
@@ -74,17 +76,19 @@ struct Run {
   double rmse_x = 0, rmse_y = 0, rmse_phi = 0, lost_pct = 0, ms_select = 0;
   eval::AneesResult anees;
   int selections = 0;
+  int gated = 0;  ///< readings refused by the ray-cast gate
 };
 
 Run localize(const Dataset& ds, const VdtMap2& map, BeamStrategy strategy,
              const std::vector<OdometryStep>& odo, std::uint32_t seed) {
   Run run;
   run.strategy = strategy;
-  const ActiveBeamSelector selector(map, ds.beam);
-  RotatingBeamController beam(ds.beam, strategy);
   VdtEkfOptions eo;
-  eo.min_inliers = 1;         // one reading per step
-  eo.search.enabled = false;  // no window search on one reading
+  eo.min_inliers = 1;                  // one reading per step
+  eo.search.enabled = false;           // no window search on one reading
+  eo.sensor.map_sigma = ds.map_sigma;  // the map's measured roughness (surface_roughness.hpp)
+  const ActiveBeamSelector selector(map, ds.beam, eo.sensor);
+  RotatingBeamController beam(ds.beam, strategy);
   VdtEkfLocalizer ekf(map, eo);
   const Eigen::Matrix3d p0 = Eigen::Vector3d(0.05 * 0.05, 0.05 * 0.05, 0.02 * 0.02).asDiagonal();
   ekf.reset(ds.drive.front().pose, p0);
@@ -93,6 +97,7 @@ Run localize(const Dataset& ds, const VdtMap2& map, BeamStrategy strategy,
   std::vector<double> nees;
   double se_x = 0, se_y = 0, se_phi = 0, select_ms = 0;
   int lost = 0;
+  Eigen::Matrix3d last_cov = p0;
   for (std::size_t k = 0; k < ds.drive.size(); ++k) {
     if (k > 0) beam.advance(odo[k].dt);
     const Pose2& truth = ds.drive[k].pose;
@@ -104,11 +109,19 @@ Run localize(const Dataset& ds, const VdtMap2& map, BeamStrategy strategy,
     const Vector2d u(std::cos(truth[2] + theta), std::sin(truth[2] + theta));
     const double r0 = sim::cast_ray<2>(ds.world, truth.head<2>(), u, ds.beam.range_max,
                                        sim::RaySurface::kCellCentre);
-    if (std::isfinite(r0) && r0 >= ds.beam.range_min) {
+    bool gated = false;
+    if (k > 0 && std::isfinite(r0) && r0 >= ds.beam.range_min) {
+      // Data association as ActiveBeamLocalizer does it: against the ray cast from the prediction.
+      gated = !selector.consistent(compose(run.estimate.back(), odo[k].delta), last_cov, theta,
+                                   r0 + ds.beam.sigma_range * eps);
+      run.gated += gated ? 1 : 0;
+    }
+    if (!gated && std::isfinite(r0) && r0 >= ds.beam.range_min) {
       pts.add(Vector2d::Zero(), Vector2d(std::cos(theta), std::sin(theta)),
               r0 + ds.beam.sigma_range * eps, 0);
     }
     const LocalizationResult res = ekf.update(odo[k], pts);
+    last_cov = res.covariance;
     const Eigen::Vector3d e = pose_error(res.pose, truth);
     se_x += e[0] * e[0];
     se_y += e[1] * e[1];
@@ -343,6 +356,10 @@ int main(int argc, char** argv) {
     for (std::size_t d = 0; d < datasets.size(); ++d) {
       const Dataset& ds = datasets[d];
       const VdtMap2 map = VdtMap2::build(ds.world);
+      const SurfaceRoughness rough = measure_surface_roughness(ds.world);
+      datasets[d].map_sigma = rough.floor;
+      std::printf("[%s] wall roughness %.4f m over %zu windows: per-reading floor %.4f m\n",
+                  ds.name.c_str(), rough.sigma, rough.windows, ds.map_sigma);
       std::mt19937_64 odo_rng(seed * 7919u + d);
       const std::vector<OdometryStep> odo = odometry(ds.drive, odo_rng);
       std::printf(
@@ -358,9 +375,9 @@ int main(int argc, char** argv) {
         const Run& r = runs.back();
         std::printf(
             "  %-15s RMSE x %.4f m, y %.4f m, phi %.5f rad; ANEES %.2f [%.2f, %.2f]; "
-            "lost %.1f %%; %d selections, %.3f ms each\n",
+            "lost %.1f %%; %d selections, %.3f ms each; %d readings refused\n",
             to_string(s), r.rmse_x, r.rmse_y, r.rmse_phi, r.anees.anees, r.anees.interval.lower,
-            r.anees.interval.upper, r.lost_pct, r.selections, r.ms_select);
+            r.anees.interval.upper, r.lost_pct, r.selections, r.ms_select, r.gated);
         std::fflush(stdout);
         const std::string dataset = d == 0 ? "dataset1" : "dataset2";
         char line[512];

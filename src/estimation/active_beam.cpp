@@ -56,6 +56,7 @@ void RotatingBeamOptions::validate() const {
                "rotating beam: sigma_range must be > 0");
   VDTNAV_CHECK(std::isfinite(hypothesis_resolution) && hypothesis_resolution > 0.0,
                "rotating beam: hypothesis_resolution must be > 0");
+  VDTNAV_CHECK(std::isfinite(gate), "rotating beam: gate must be finite (<= 0: no gate)");
 }
 
 const char* to_string(BeamStrategy s) noexcept {
@@ -99,6 +100,17 @@ double ActiveBeamSelector::segment_lower(int i) const {
 double ActiveBeamSelector::segment_upper(int i) const { return segment_lower(i + 1); }
 double ActiveBeamSelector::segment_centre(int i) const {
   return 0.5 * (segment_lower(i) + segment_upper(i));
+}
+
+bool ActiveBeamSelector::consistent(const Pose2& pose, const Eigen::Matrix3d& p, double theta,
+                                    double range) const {
+  if (beam_.gate <= 0.0) return true;
+  Eigen::Vector3d g;
+  if (!range_gradient(pose, theta, &g)) return false;
+  const double predicted = hypothetical_range(pose, theta);
+  const double var = g.dot(p * g) + beam_.sigma_range * beam_.sigma_range +
+                     model_.map_sigma() * model_.map_sigma();
+  return std::abs(range - predicted) <= beam_.gate * std::sqrt(var);
 }
 
 int ActiveBeamSelector::segment_of(double theta) const {

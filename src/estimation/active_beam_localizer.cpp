@@ -21,6 +21,8 @@ ActiveBeamLocalizer::ActiveBeamLocalizer(const VdtMap2& map,
 
 void ActiveBeamLocalizer::reset(const Pose2& pose, const Eigen::Matrix3d& covariance) {
   ekf_.reset(pose, covariance);
+  pose_ = pose;
+  covariance_ = covariance;
   beam_ = RotatingBeamController(options_.beam, options_.strategy);
 }
 
@@ -43,6 +45,15 @@ LocalizationResult ActiveBeamLocalizer::update(const OdometryStep& odometry,
       best = i;
     }
   }
+  // Data association: the reading must agree with the ray cast from the prediction.
+  if (best < observations.size()) {
+    // The endpoint as seen from the robot's origin, where the ray cast starts.
+    const Eigen::Vector2d& p = observations.points[best];
+    if (!selector_.consistent(compose(pose_, odometry.delta), covariance_, std::atan2(p.y(), p.x()),
+                              p.norm())) {
+      best = observations.size();
+    }
+  }
   if (best < observations.size()) {
     one.points.push_back(observations.points[best]);
     one.directions.push_back(observations.directions[best]);
@@ -54,6 +65,8 @@ LocalizationResult ActiveBeamLocalizer::update(const OdometryStep& odometry,
     }
   }
   LocalizationResult result = ekf_.update(odometry, one);
+  pose_ = result.pose;
+  covariance_ = result.covariance;
   if (beam_.needs_goal()) {
     const BeamSelection s = selector_.select(result.pose, result.covariance,
                                              selector_.segment_of(theta), options_.strategy);

@@ -210,6 +210,9 @@ void visit(V& v, RotatingBeamOptions& o) {
   v.number("sigma_range", o.sigma_range, "m", "range noise of the hypothetical readings");
   v.number("hypothesis_resolution", o.hypothesis_resolution, "rad",
            "spacing of a segment's hypothetical readings");
+  v.number("gate", o.gate, "sigma",
+           "a reading this many sigma off the range ray cast from the prediction is not used; "
+           "<= 0: no gate");
 }
 
 template <typename V>
@@ -220,7 +223,10 @@ void visit(V& v, ActiveBeamLocalizerOptions& o) {
            "a scan's reading nearest the beam's bearing is kept if within this");
   v.section("beam", "the rotating single-beam sensor (Table 4.3 by default)",
             [&](V& s) { visit(s, o.beam); });
-  v.section("ekf", "the VDT EKF it updates (keys of vdt-ekf)", [&](V& s) { visit(s, o.ekf); });
+  v.section("ekf",
+            "the VDT EKF it updates (keys of vdt-ekf; sensor.map_sigma < 0: the map's measured "
+            "wall roughness, map/surface_roughness.hpp)",
+            [&](V& s) { visit(s, o.ekf); });
 }
 
 template <typename V>

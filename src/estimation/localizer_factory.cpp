@@ -1,6 +1,7 @@
 #include "vdtnav/estimation/localizer_factory.hpp"
 
 #include "vdtnav/core/error.hpp"
+#include "vdtnav/map/surface_roughness.hpp"
 
 namespace vdtnav {
 
@@ -37,11 +38,15 @@ std::unique_ptr<Localizer2D> make_localizer(const std::string& method, const Vdt
     return std::make_unique<UdtOptimizationLocalizer>(occupancy, settings.udt);
   if (method == "udt-ekf") return std::make_unique<UdtEkfLocalizer>(occupancy, settings.udt);
   if (method == "pf") return std::make_unique<ParticleFilterLocalizer>(occupancy, settings.pf);
-  if (method == "active-ekf") {
-    return std::make_unique<ActiveBeamLocalizer>(vdt, settings.active_ekf, "active-ekf");
-  }
-  if (method == "passive-ekf") {
-    return std::make_unique<ActiveBeamLocalizer>(vdt, settings.passive_ekf, "passive-ekf");
+  if (method == "active-ekf" || method == "passive-ekf") {
+    ActiveBeamLocalizerOptions o =
+        method == "active-ekf" ? settings.active_ekf : settings.passive_ekf;
+    // One reading per update leans on the map at each endpoint: the per-reading floor is the
+    // map's measured wall roughness unless set (map/surface_roughness.hpp).
+    if (o.ekf.sensor.map_sigma < 0.0) {
+      o.ekf.sensor.map_sigma = measure_surface_roughness(occupancy).floor;
+    }
+    return std::make_unique<ActiveBeamLocalizer>(vdt, o, method);
   }
   std::string known;
   for (const auto& m : localizer_methods()) known += (known.empty() ? "" : ", ") + m;

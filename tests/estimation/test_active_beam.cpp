@@ -10,6 +10,7 @@
 #include <Eigen/Eigenvalues>
 
 #include <cmath>
+#include <limits>
 #include <random>
 #include <vector>
 
@@ -236,6 +237,43 @@ namespace {
 
 /// The Localizer2D form (`vdtnav localize --method active-ekf`): full 40 Hz scans in, one reading
 /// per scan used, the beam turning; it tracks a drive through the generated floor plan.
+TEST(ActiveBeam, GateKeepsReadingsOfThePredictedSurfaceAndRefusesOthers) {
+  // sigma^2 = g^T P g + sigma_r^2 + floor^2 (Cholesky-free: P diagonal, so the bound is explicit).
+  RotatingBeamOptions beam = RotatingBeamOptions::table_4_3();
+  VdtSensorModelOptions sensor;
+  sensor.map_sigma = 0.03;
+  const ActiveBeamSelector sel(world().map, beam, sensor);
+  const Eigen::Matrix3d p = Eigen::Vector3d(0.02 * 0.02, 0.02 * 0.02, 0.005 * 0.005).asDiagonal();
+  int tested = 0;
+  for (std::size_t k = 0; k < 12; ++k) {
+    const Pose2 pose = test::tour_pose(k);
+    for (int b = -8; b <= 8; ++b) {
+      const double theta = 0.15 * b;
+      Eigen::Vector3d g;
+      if (!sel.range_gradient(pose, theta, &g)) continue;
+      const double r = sel.hypothetical_range(pose, theta);
+      const double sigma =
+          std::sqrt(g.dot(p * g) + beam.sigma_range * beam.sigma_range + 0.03 * 0.03);
+      ++tested;
+      EXPECT_TRUE(sel.consistent(pose, p, theta, r));
+      EXPECT_TRUE(sel.consistent(pose, p, theta, r + 0.95 * beam.gate * sigma));
+      EXPECT_FALSE(sel.consistent(pose, p, theta, r - 1.05 * beam.gate * sigma));
+      // Another surface a metre on (unless the beam grazes so that a metre is within the gate).
+      if (beam.gate * sigma < 0.9) {
+        EXPECT_FALSE(sel.consistent(pose, p, theta, r + 1.0));
+      }
+      // An uncertain pose accepts what a certain one refuses.
+      EXPECT_TRUE(sel.consistent(pose, 1e4 * p, theta, r - 1.05 * beam.gate * sigma));
+    }
+  }
+  EXPECT_GT(tested, 100);
+  beam.gate = 0.0;  // no gate
+  const ActiveBeamSelector open(world().map, beam, sensor);
+  EXPECT_TRUE(open.consistent(test::tour_pose(0), p, 0.0, 1e3));
+  beam.gate = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_THROW(ActiveBeamSelector(world().map, beam), ConfigError);
+}
+
 TEST(ActiveBeamLocalizer, KeepsOneReadingPerScanAndTracksADrive) {
   sim::TrajectoryOptions t;
   t.rate_hz = 40.0;

@@ -45,6 +45,12 @@ struct RotatingBeamOptions {
   double sigma_range = 0.02;                             ///< metres
   /// Radians between the hypothetical readings of a segment (the fixed angular resolution).
   double hypothesis_resolution = 2.0 * 3.14159265358979323846 / 180.0;
+  /// Data association of one reading (ActiveBeamSelector::consistent): a reading whose range
+  /// differs from the range ray cast from the predicted pose by more than `gate` standard
+  /// deviations is not used. With one 30 m beam, an endpoint that went past a door edge can land
+  /// near some other surface and look plausible to the VDT model; the ray cast tells. Four sigma
+  /// refuses one consistent Gaussian reading in ~16000. <= 0: no gate.
+  double gate = 4.0;
 
   /// \brief Table 4.1 (Dataset 1): 360 degrees, 0.525 rad/s, 8 segments, 0.5-3 m.
   [[nodiscard]] static RotatingBeamOptions table_4_1();
@@ -105,6 +111,13 @@ class ActiveBeamSelector {
   /// \brief The range-beam Fisher information vector g = dr/dX of a beam along bearing theta
   /// (robot frame) from pose, and whether it hits within range (see the file comment).
   [[nodiscard]] bool range_gradient(const Pose2& pose, double theta, Eigen::Vector3d* g) const;
+
+  /// \brief Whether a reading of `range` along bearing theta (robot frame) agrees with the map
+  /// seen from the predicted pose (P its covariance): |range - r(pose)| <= gate * sigma with
+  /// sigma^2 = g^T P g + sigma_range^2 + map_sigma^2, g = dr/dX (range_gradient()). False when
+  /// the ray cast from the pose reads nothing in range; always true when beam().gate <= 0.
+  [[nodiscard]] bool consistent(const Pose2& pose, const Eigen::Matrix3d& p, double theta,
+                                double range) const;
 
   /// \brief The next goal segment for an active strategy, from the current segment.
   [[nodiscard]] BeamSelection select(const Pose2& pose, const Eigen::Matrix3d& p, int current,

@@ -18,8 +18,11 @@ namespace vdtnav {
 /// \brief Options of ActiveBeamLocalizer.
 struct ActiveBeamLocalizerOptions {
   /// The filter: the VDT EKF with one reading per update (min_inliers 1, no window search).
+  /// Its sensor.map_sigma, the per-reading floor, should be the map's wall roughness
+  /// (measure_surface_roughness(occupancy).floor; make_localizer sets it when < 0).
   VdtEkfOptions ekf = one_reading_ekf();
-  /// The sensor: Table 4.3's (270 degrees at 0.1745 rad/s, 23 segments, 0.5-30 m) by default.
+  /// The sensor: Table 4.3's (270 degrees at 0.1745 rad/s, 23 segments, 0.5-30 m) by default;
+  /// beam.gate refuses a reading the ray cast from the prediction disagrees with.
   RotatingBeamOptions beam = RotatingBeamOptions::table_4_3();
   BeamStrategy strategy = BeamStrategy::kActiveTrace;
   /// Radians: a scan's reading is kept when its bearing is within this of the beam's (the nearest
@@ -54,6 +57,8 @@ class ActiveBeamLocalizer final : public Localizer2D {
   ActiveBeamSelector selector_;
   RotatingBeamController beam_;
   std::string name_;
+  Pose2 pose_ = Pose2::Zero();  ///< the last estimate and its covariance (the gate's prediction)
+  Eigen::Matrix3d covariance_ = Eigen::Matrix3d::Identity();
 };
 
 }  // namespace vdtnav
