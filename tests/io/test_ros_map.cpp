@@ -21,8 +21,11 @@ namespace {
 namespace fs = std::filesystem;
 using Cells = std::vector<int>;  // cell values, row j = 0 (bottom) first, x fastest
 
+/// A folder of the running test's own: ctest runs the tests of this file in parallel, and two of
+/// them writing no_image.yaml in one folder raced (one read the other's half-written file).
 std::string tmp_dir() {
-  const fs::path dir = fs::path(VDTNAV_TEST_TMP) / "ros_map";
+  const fs::path dir = fs::path(VDTNAV_TEST_TMP) / "ros_map" /
+                       ::testing::UnitTest::GetInstance()->current_test_info()->name();
   fs::create_directories(dir);
   return dir.string();
 }

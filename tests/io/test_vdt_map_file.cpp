@@ -20,7 +20,11 @@ namespace fs = std::filesystem;
 using Bytes = std::vector<unsigned char>;
 
 std::string tmp_path(const std::string& name) {
-  const fs::path dir = fs::path(VDTNAV_TEST_TMP) / "vdt_map_file";
+  // The running test's own folder: ctest runs this file's tests in parallel.
+  const ::testing::TestInfo* test = ::testing::UnitTest::GetInstance()->current_test_info();
+  std::string own = std::string(test->test_suite_name()) + "." + test->name();
+  for (char& c : own) c = c == '/' ? '_' : c;
+  const fs::path dir = fs::path(VDTNAV_TEST_TMP) / "vdt_map_file" / own;
   fs::create_directories(dir);
   return (dir / name).string();
 }

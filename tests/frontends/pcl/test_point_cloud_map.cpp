@@ -29,7 +29,11 @@ constexpr double kRes = 0.1;
 constexpr std::size_t kNonFinite = 10;
 
 std::string tmp_path(const std::string& name) {
-  const fs::path dir = fs::path(VDTNAV_TEST_TMP) / "point_cloud_map";
+  // The running test's own folder: ctest runs this file's tests in parallel.
+  const ::testing::TestInfo* test = ::testing::UnitTest::GetInstance()->current_test_info();
+  std::string own = std::string(test->test_suite_name()) + "." + test->name();
+  for (char& c : own) c = c == '/' ? '_' : c;
+  const fs::path dir = fs::path(VDTNAV_TEST_TMP) / "point_cloud_map" / own;
   fs::create_directories(dir);
   return (dir / name).string();
 }
