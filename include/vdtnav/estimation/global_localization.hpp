@@ -1,0 +1,130 @@
+#pragma once
+/// \file
+/// \brief The pose of one scan with no prior on a 2D VDT map: branch and bound over (x, y, phi),
+/// and LaMa's random sampling for comparison.
+///
+/// The score of a pose is the truncated VCD  S = sum_i min(D(q_i)^2, tau^2)  of N readings of
+/// the scan, D the distance from an endpoint's cell to the nearest occupied cell (exact at cell
+/// centres: the VDT's stored nearest cells). Headings are taken in steps small enough that the
+/// scan's far readings move by about a cell; for each heading the readings' cell offsets are
+/// integers, and over a box of 2^k x 2^k robot cells the smallest distance an endpoint can have is
+/// the minimum of D over a 2^k window — a pyramid of min-pooled grids, built once per map, makes
+/// that a lookup, so  LB = sum_i min(M_k(c + o_i)^2, tau^2)  is an exact lower bound of S over the
+/// box (the distance field is 1-Lipschitz; the pooling is its tightest form on the grid). Boxes
+/// are expanded best-first: the first leaf popped is the best cell-and-heading pose of the whole
+/// map, and the leaves popped after it come in order of score — the distinct ones among them are
+/// the alternatives. The best few are refined by the VDT optimizer; the result is refused when the
+/// refined best leaves the scan unexplained or when a distinct alternative explains it as well
+/// (a symmetric building: the ambiguity is reported, not guessed).
+
+#include <cstdint>
+#include <vector>
+
+#include "vdtnav/estimation/localizer.hpp"
+#include "vdtnav/estimation/vdt_optimizer.hpp"
+#include "vdtnav/map/grid.hpp"
+#include "vdtnav/map/vdt_map.hpp"
+#include "vdtnav/sensor/laser_scan.hpp"
+
+namespace vdtnav {
+
+struct GlobalLocalizationOptions {
+  /// tau, metres: a reading farther than this from the map counts tau^2 (unexplained).
+  double truncation = 0.3;
+  /// Readings scored, evenly over the scan's valid ones (the refinement uses them all).
+  int max_readings = 120;
+  /// Radians between headings; <= 0: resolution / r90 (r90 the scan's 90th-percentile range:
+  /// its far readings move by a cell), clamped into [0.25, 2] degrees.
+  double angular_step = -1.0;
+  /// The coarsest box is 2^levels cells on a side; < 0: about 3.2 m.
+  int levels = -1;
+  /// Distinct candidates refined by the optimizer (the best and its alternatives).
+  int candidates = 6;
+  /// Two poses are distinct when this far apart (metres) or this much turned (radians).
+  double distinct_distance = 1.0;
+  double distinct_angle = 0.5;
+  /// Alternatives are looked for among leaves scoring at most best + this fraction of N tau^2.
+  double alternative_margin = 0.15;
+  /// A reading is explained when its disparity is below this (metres).
+  double explained_distance = 0.1;
+  /// The refined best must explain this fraction of the scan, else kRefused.
+  double accept_fraction = 0.75;
+  /// Ambiguous when a distinct refined alternative explains at least the best's fraction less
+  /// this (and passes accept_fraction itself).
+  double ambiguity_margin = 0.05;
+  /// The refinement (its defaults: the optimizer's, with its coarse levels).
+  VdtOptimizerOptions optimizer;
+
+  /// \throws ConfigError for values out of range.
+  void validate() const;
+};
+
+/// \brief What a global localization found.
+struct GlobalLocalizationResult {
+  /// The refined best pose and covariance; status kConverged when accepted, kRefused when the
+  /// scan is unexplained or the pose ambiguous, kTooFewObservations for a scan without readings.
+  LocalizationResult result;
+  bool ambiguous = false;
+  std::vector<Pose2> alternatives;  ///< distinct refined poses that explain the scan as well
+  double explained = 0.0;           ///< fraction of the scan the best explains
+  std::size_t nodes = 0;            ///< boxes scored (branch and bound) or poses (sampling)
+  /// The best cell-and-heading pose of the search (before refinement) and its score
+  /// sum_i min(D_i^2, tau^2) over the scored readings.
+  Pose2 best_leaf = Pose2::Zero();
+  double best_leaf_score = 0.0;
+  double seconds = 0.0;  ///< wall time of the search and the refinement
+};
+
+/// \brief Global localization on one map (see the file comment). Thread-compatible: localize()
+/// is const.
+class GlobalLocalizer {
+ public:
+  /// \param map, occupancy must outlive the localizer; the robot is placed in occupancy's free
+  ///        cells (same grid as the map's).
+  /// \throws ConfigError for bad options or a grid that is not the map's.
+  GlobalLocalizer(const VdtMap2& map, const OccupancyGrid<2>& occupancy,
+                  const GlobalLocalizationOptions& options = {});
+
+  /// \brief Branch and bound.
+  [[nodiscard]] GlobalLocalizationResult localize(const ScanPoints& scan) const;
+
+  /// \brief LaMa's way: poses drawn uniformly over the free cells and headings, each scored as
+  /// a leaf, until `seconds` of wall time (at least `min_samples`), then the same refinement and
+  /// acceptance.
+  [[nodiscard]] GlobalLocalizationResult localize_random(const ScanPoints& scan, double seconds,
+                                                         unsigned seed,
+                                                         int min_samples = 100) const;
+
+  [[nodiscard]] const GlobalLocalizationOptions& options() const noexcept { return options_; }
+
+ private:
+  struct Readings;  // the scored readings: robot-frame points and ranges
+  struct Leaf {
+    double score;
+    int angle, cx, cy;
+  };
+  [[nodiscard]] Readings select_readings(const ScanPoints& scan) const;
+  [[nodiscard]] double angular_step(const Readings& r) const;
+  /// Cell offsets of the readings at heading phi (grid axes).
+  void offsets(const Readings& r, double phi, std::vector<Eigen::Vector2i>* out) const;
+  /// Truncated score of box (level, cx, cy) with the given offsets.
+  [[nodiscard]] double bound(int level, int cx, int cy,
+                             const std::vector<Eigen::Vector2i>& o) const;
+  [[nodiscard]] Pose2 leaf_pose(const Leaf& leaf, double step) const;
+  /// Refines the leaves (distinct, best first) and decides.
+  [[nodiscard]] GlobalLocalizationResult decide(const ScanPoints& scan,
+                                                const std::vector<Pose2>& starts) const;
+
+  const VdtMap2* map_;
+  GlobalLocalizationOptions options_;
+  VdtOptimizer optimizer_;
+  int levels_ = 0;
+  int width_ = 0, height_ = 0;
+  /// pooled_[k](x, y) = min over the 2^k window from (x, y) of min(D^2, tau^2) (cells outside
+  /// the map count tau^2); free_[k] = whether the window holds a free cell.
+  std::vector<std::vector<float>> pooled_;
+  std::vector<std::vector<std::uint8_t>> free_;
+  std::vector<std::int32_t> free_cells_;
+};
+
+}  // namespace vdtnav

@@ -1,0 +1,352 @@
+#include "vdtnav/estimation/global_localization.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <queue>
+#include <random>
+
+#include "vdtnav/core/error.hpp"
+#include "vdtnav/estimation/guess_search.hpp"
+
+namespace vdtnav {
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+using Clock = std::chrono::steady_clock;
+
+double since(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+bool distinct(const Pose2& a, const Pose2& b, const GlobalLocalizationOptions& o) {
+  return (a.head<2>() - b.head<2>()).norm() > o.distinct_distance ||
+         std::abs(wrap_angle(a[2] - b[2])) > o.distinct_angle;
+}
+
+}  // namespace
+
+void GlobalLocalizationOptions::validate() const {
+  VDTNAV_CHECK(std::isfinite(truncation) && truncation > 0.0,
+               "global localization: truncation must be > 0");
+  VDTNAV_CHECK(max_readings >= 3, "global localization: max_readings must be >= 3");
+  VDTNAV_CHECK(std::isfinite(angular_step) && angular_step < kPi,
+               "global localization: angular_step must be < pi (<= 0: from the scan)");
+  VDTNAV_CHECK(levels <= 12, "global localization: levels must be <= 12");
+  VDTNAV_CHECK(candidates >= 1, "global localization: candidates must be >= 1");
+  VDTNAV_CHECK(distinct_distance > 0.0 && distinct_angle > 0.0,
+               "global localization: distinct_distance and distinct_angle must be > 0");
+  VDTNAV_CHECK(alternative_margin >= 0.0 && explained_distance > 0.0 && ambiguity_margin >= 0.0,
+               "global localization: margins must be >= 0 and explained_distance > 0");
+  VDTNAV_CHECK(accept_fraction > 0.0 && accept_fraction <= 1.0,
+               "global localization: accept_fraction must be in (0, 1]");
+}
+
+struct GlobalLocalizer::Readings {
+  std::vector<Eigen::Vector2d> points;
+  std::vector<double> ranges;
+};
+
+GlobalLocalizer::GlobalLocalizer(const VdtMap2& map, const OccupancyGrid<2>& occupancy,
+                                 const GlobalLocalizationOptions& options)
+    : map_(&map), options_(options), optimizer_(map, options.optimizer) {
+  options_.validate();
+  VDTNAV_CHECK(
+      occupancy.size() == map.size() && std::abs(occupancy.resolution() - map.resolution()) < 1e-12,
+      "global localization: the occupancy grid must be the map's grid");
+  width_ = map.size().x();
+  height_ = map.size().y();
+  const double h = map.resolution();
+  levels_ = options_.levels >= 0 ? options_.levels
+                                 : std::max(0, static_cast<int>(std::lround(std::log2(3.2 / h))));
+  const float tau2 = static_cast<float>(options_.truncation * options_.truncation);
+  const auto& nearest = map.nearest_cells();
+  const std::size_t n = static_cast<std::size_t>(width_) * height_;
+  // Level 0: min(D^2, tau^2) at cell centres, D to the nearest occupied cell's centre.
+  std::vector<float> level0(n);
+  std::vector<std::uint8_t> free0(n);
+  for (std::size_t c = 0; c < n; ++c) {
+    const Eigen::Vector2i i = nearest.index_of(static_cast<std::ptrdiff_t>(c));
+    const Eigen::Vector2i j = nearest.index_of(nearest[c]);
+    const double d2 = (i - j).cast<double>().squaredNorm() * h * h;
+    level0[c] = std::min(static_cast<float>(d2), tau2);
+    free0[c] = occupancy[c] ? 0 : 1;
+    if (free0[c] != 0) free_cells_.push_back(static_cast<std::int32_t>(c));
+  }
+  pooled_.push_back(std::move(level0));
+  free_.push_back(std::move(free0));
+  // Level k from k-1: the window [c, c + 2^k) is four windows of 2^(k-1).
+  for (int k = 1; k <= levels_; ++k) {
+    const int half = 1 << (k - 1);
+    const std::vector<float>& prev = pooled_.back();
+    const std::vector<std::uint8_t>& prev_free = free_.back();
+    std::vector<float> cur(n);
+    std::vector<std::uint8_t> cur_free(n);
+    for (int y = 0; y < height_; ++y) {
+      for (int x = 0; x < width_; ++x) {
+        float m = tau2;
+        std::uint8_t f = 0;
+        for (int dy : {0, half}) {
+          for (int dx : {0, half}) {
+            const int xx = x + dx, yy = y + dy;
+            if (xx >= width_ || yy >= height_) continue;
+            const std::size_t c = static_cast<std::size_t>(yy) * width_ + xx;
+            m = std::min(m, prev[c]);
+            f = static_cast<std::uint8_t>(f | prev_free[c]);
+          }
+        }
+        const std::size_t c = static_cast<std::size_t>(y) * width_ + x;
+        cur[c] = m;
+        cur_free[c] = f;
+      }
+    }
+    pooled_.push_back(std::move(cur));
+    free_.push_back(std::move(cur_free));
+  }
+}
+
+GlobalLocalizer::Readings GlobalLocalizer::select_readings(const ScanPoints& scan) const {
+  std::vector<std::size_t> valid;
+  for (std::size_t i = 0; i < scan.size(); ++i) {
+    if (scan.points[i].allFinite()) valid.push_back(i);
+  }
+  Readings r;
+  const std::size_t want = static_cast<std::size_t>(options_.max_readings);
+  for (std::size_t k = 0; k < std::min(want, valid.size()); ++k) {
+    const std::size_t i = valid[k * valid.size() / std::min(want, valid.size())];
+    r.points.push_back(scan.points[i]);
+    r.ranges.push_back(scan.points[i].norm());
+  }
+  return r;
+}
+
+double GlobalLocalizer::angular_step(const Readings& r) const {
+  if (options_.angular_step > 0.0) return options_.angular_step;
+  std::vector<double> ranges = r.ranges;
+  const auto p90 = ranges.begin() + static_cast<std::ptrdiff_t>(0.9 * (ranges.size() - 1));
+  std::nth_element(ranges.begin(), p90, ranges.end());
+  const double step = map_->resolution() / std::max(*p90, 1e-3);
+  return std::clamp(step, 0.25 * kPi / 180.0, 2.0 * kPi / 180.0);
+}
+
+void GlobalLocalizer::offsets(const Readings& r, double phi,
+                              std::vector<Eigen::Vector2i>* out) const {
+  // Robot at a cell centre: the endpoint's continuous index is the cell's plus
+  // R(phi - grid yaw) p / h (cell centres at integer indices).
+  const Eigen::Matrix2d to_grid = map_->frame().rotation().transpose() *
+                                  Eigen::Rotation2Dd(phi).toRotationMatrix() / map_->resolution();
+  out->resize(r.points.size());
+  for (std::size_t i = 0; i < r.points.size(); ++i) {
+    const Eigen::Vector2d u = to_grid * r.points[i];
+    (*out)[i] =
+        Eigen::Vector2i(static_cast<int>(std::lround(u.x())), static_cast<int>(std::lround(u.y())));
+  }
+}
+
+double GlobalLocalizer::bound(int level, int cx, int cy,
+                              const std::vector<Eigen::Vector2i>& o) const {
+  const std::vector<float>& grid = pooled_[static_cast<std::size_t>(level)];
+  const float tau2 = static_cast<float>(options_.truncation * options_.truncation);
+  const int span = 1 << level;
+  double s = 0.0;
+  for (const Eigen::Vector2i& d : o) {
+    int x = cx + d.x(), y = cy + d.y();
+    // A window partly outside the map: its inside part (cells outside count tau^2).
+    if (x + span <= 0 || y + span <= 0 || x >= width_ || y >= height_) {
+      s += tau2;
+      continue;
+    }
+    if (x < 0 || y < 0) {
+      // The pooled grid starts windows at x, y >= 0: a clipped window is a sub-window of the
+      // one at 0, whose minimum is no larger — still a lower bound.
+      x = std::max(x, 0);
+      y = std::max(y, 0);
+    }
+    s += grid[static_cast<std::size_t>(y) * width_ + x];
+  }
+  return s;
+}
+
+Pose2 GlobalLocalizer::leaf_pose(const Leaf& leaf, double step) const {
+  const Eigen::Vector2d p = map_->frame().cell_center(Eigen::Vector2i(leaf.cx, leaf.cy));
+  return Pose2(p.x(), p.y(), wrap_angle(leaf.angle * step));
+}
+
+GlobalLocalizationResult GlobalLocalizer::localize(const ScanPoints& scan) const {
+  const auto t0 = Clock::now();
+  GlobalLocalizationResult out;
+  const Readings r = select_readings(scan);
+  if (r.points.size() < 3) {
+    out.result.status = LocalizationStatus::kTooFewObservations;
+    out.seconds = since(t0);
+    return out;
+  }
+  const double step = angular_step(r);
+  const int angles = static_cast<int>(std::ceil(2.0 * kPi / step - 1e-9));
+  std::vector<std::vector<Eigen::Vector2i>> offs(static_cast<std::size_t>(angles));
+  for (int a = 0; a < angles; ++a) offsets(r, a * 2.0 * kPi / angles, &offs[a]);
+  const double step_used = 2.0 * kPi / angles;
+
+  struct Node {
+    double lb;
+    int angle, level, cx, cy;
+    bool operator<(const Node& o) const { return lb > o.lb; }  // min-heap
+  };
+  std::priority_queue<Node> queue;
+  const int span = 1 << levels_;
+  for (int a = 0; a < angles; ++a) {
+    for (int cy = 0; cy < height_; cy += span) {
+      for (int cx = 0; cx < width_; cx += span) {
+        if (free_[levels_][static_cast<std::size_t>(cy) * width_ + cx] == 0) continue;
+        queue.push({bound(levels_, cx, cy, offs[a]), a, levels_, cx, cy});
+        ++out.nodes;
+      }
+    }
+  }
+  // Best-first: leaves pop in order of score; keep the best and distinct alternatives.
+  const double n_tau2 =
+      static_cast<double>(r.points.size()) * options_.truncation * options_.truncation;
+  std::vector<Leaf> leaves;
+  std::vector<Pose2> poses;
+  double limit = std::numeric_limits<double>::infinity();
+  while (!queue.empty()) {
+    const Node node = queue.top();
+    queue.pop();
+    if (node.lb > limit) break;
+    if (node.level == 0) {
+      const Leaf leaf{node.lb, node.angle, node.cx, node.cy};
+      const Pose2 pose = leaf_pose(leaf, step_used);
+      bool is_new = true;
+      for (const Pose2& q : poses) is_new = is_new && distinct(pose, q, options_);
+      if (!is_new) continue;
+      if (leaves.empty()) limit = node.lb + options_.alternative_margin * n_tau2;
+      leaves.push_back(leaf);
+      poses.push_back(pose);
+      if (static_cast<int>(leaves.size()) >= options_.candidates) break;
+      continue;
+    }
+    const int k = node.level - 1, half = 1 << k;
+    for (int dy : {0, half}) {
+      for (int dx : {0, half}) {
+        const int cx = node.cx + dx, cy = node.cy + dy;
+        if (cx >= width_ || cy >= height_) continue;
+        if (free_[k][static_cast<std::size_t>(cy) * width_ + cx] == 0) continue;
+        queue.push({bound(k, cx, cy, offs[node.angle]), node.angle, k, cx, cy});
+        ++out.nodes;
+      }
+    }
+  }
+  const std::size_t nodes = out.nodes;
+  out = decide(scan, poses);
+  out.nodes = nodes;
+  if (!leaves.empty()) {
+    out.best_leaf = poses.front();
+    out.best_leaf_score = leaves.front().score;
+  }
+  out.seconds = since(t0);
+  return out;
+}
+
+GlobalLocalizationResult GlobalLocalizer::localize_random(const ScanPoints& scan, double seconds,
+                                                          unsigned seed, int min_samples) const {
+  const auto t0 = Clock::now();
+  GlobalLocalizationResult out;
+  const Readings r = select_readings(scan);
+  if (r.points.size() < 3 || free_cells_.empty()) {
+    out.result.status = LocalizationStatus::kTooFewObservations;
+    out.seconds = since(t0);
+    return out;
+  }
+  std::mt19937_64 rng(seed);
+  std::uniform_int_distribution<std::size_t> cell(0, free_cells_.size() - 1);
+  std::uniform_real_distribution<double> heading(-kPi, kPi);
+  // The best `candidates` distinct samples (a sample close to a kept one replaces it if better).
+  std::vector<std::pair<double, Pose2>> best;
+  std::vector<Eigen::Vector2i> o;
+  const auto& grid = pooled_[0];
+  std::size_t samples = 0;
+  while (static_cast<int>(samples) < min_samples || since(t0) < seconds) {
+    for (int batch = 0; batch < 64; ++batch, ++samples) {
+      const std::int32_t c = free_cells_[cell(rng)];
+      const Eigen::Vector2i i(c % width_, c / width_);
+      const double phi = heading(rng);
+      offsets(r, phi, &o);
+      double s = 0.0;
+      for (const Eigen::Vector2i& d : o) {
+        const int x = i.x() + d.x(), y = i.y() + d.y();
+        s += (x < 0 || y < 0 || x >= width_ || y >= height_)
+                 ? options_.truncation * options_.truncation
+                 : grid[static_cast<std::size_t>(y) * width_ + x];
+      }
+      const Eigen::Vector2d p = map_->frame().cell_center(i);
+      const Pose2 pose(p.x(), p.y(), phi);
+      bool merged = false;
+      for (auto& b : best) {
+        if (!distinct(pose, b.second, options_)) {
+          if (s < b.first) b = {s, pose};
+          merged = true;
+          break;
+        }
+      }
+      if (!merged) best.emplace_back(s, pose);
+      std::sort(best.begin(), best.end(),
+                [](const auto& a, const auto& b) { return a.first < b.first; });
+      if (static_cast<int>(best.size()) > options_.candidates) best.pop_back();
+    }
+  }
+  std::vector<Pose2> starts;
+  for (const auto& b : best) starts.push_back(b.second);
+  out = decide(scan, starts);
+  out.nodes = samples;
+  if (!best.empty()) {
+    out.best_leaf = best.front().second;
+    out.best_leaf_score = best.front().first;
+  }
+  out.seconds = since(t0);
+  return out;
+}
+
+GlobalLocalizationResult GlobalLocalizer::decide(const ScanPoints& scan,
+                                                 const std::vector<Pose2>& starts) const {
+  GlobalLocalizationResult out;
+  struct Refined {
+    LocalizationResult result;
+    double score, explained;
+  };
+  std::vector<Refined> refined;
+  const VdtSensorModel& model = optimizer_.sensor_model();
+  for (const Pose2& s : starts) {
+    Refined f;
+    f.result = optimizer_.solve(scan, s);
+    if (f.result.status == LocalizationStatus::kDiverged) continue;
+    f.score = truncated_vcd(model, scan, f.result.pose, options_.truncation);
+    f.explained = explained_fraction(model, scan, f.result.pose, options_.explained_distance);
+    refined.push_back(f);
+  }
+  if (refined.empty()) {
+    out.result.status = LocalizationStatus::kRefused;
+    return out;
+  }
+  std::sort(refined.begin(), refined.end(),
+            [](const Refined& a, const Refined& b) { return a.score < b.score; });
+  const Refined& best = refined.front();
+  out.result = best.result;
+  out.explained = best.explained;
+  for (std::size_t k = 1; k < refined.size(); ++k) {
+    const Refined& alt = refined[k];
+    if (!distinct(alt.result.pose, best.result.pose, options_)) continue;
+    if (alt.explained >= options_.accept_fraction &&
+        alt.explained >= best.explained - options_.ambiguity_margin) {
+      out.ambiguous = true;
+      out.alternatives.push_back(alt.result.pose);
+    }
+  }
+  if (best.explained < options_.accept_fraction || out.ambiguous) {
+    out.result.status = LocalizationStatus::kRefused;
+  }
+  return out;
+}
+
+}  // namespace vdtnav

@@ -1,0 +1,233 @@
+// Global localization (estimation/global_localization.hpp): the branch and bound's best leaf
+// against an exhaustive search with an independent brute-force distance, poses found from random
+// free poses of the generated floor plan, a symmetric room refused as ambiguous, random sampling,
+// and bad options.
+#include "vdtnav/estimation/global_localization.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <random>
+#include <vector>
+
+#include "scan_fixture.hpp"
+#include "vdtnav/core/error.hpp"
+#include "vdtnav/sim/ray_casting.hpp"
+
+namespace vdtnav {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+/// A scan of `grid` from `pose`: 270 degrees, `beams` readings, ray cast to cell centres.
+ScanPoints scan_in(const OccupancyGrid<2>& grid, const Pose2& pose, double sigma, std::mt19937& rng,
+                   int beams = 541) {
+  std::normal_distribution<double> n(0.0, sigma);
+  ScanPoints s;
+  s.sigma_range = std::max(sigma, 0.01);
+  for (int i = 0; i < beams; ++i) {
+    const double b = -0.75 * kPi + 1.5 * kPi * i / (beams - 1);
+    const Eigen::Vector2d u(std::cos(pose[2] + b), std::sin(pose[2] + b));
+    const double r = sim::cast_ray<2>(grid, pose.head<2>(), u, 30.0, sim::RaySurface::kCellCentre);
+    if (!std::isfinite(r) || r < 0.1) continue;
+    s.add(Eigen::Vector2d::Zero(), Eigen::Vector2d(std::cos(b), std::sin(b)),
+          r + (sigma > 0 ? n(rng) : 0.0), static_cast<std::size_t>(i));
+  }
+  return s;
+}
+
+Pose2 random_free_pose(const OccupancyGrid<2>& grid, const VdtMap2& map, std::mt19937& rng,
+                       double clearance) {
+  std::uniform_int_distribution<int> x(0, grid.size().x() - 1), y(0, grid.size().y() - 1);
+  std::uniform_real_distribution<double> yaw(-kPi, kPi);
+  while (true) {
+    const Eigen::Vector2i i(x(rng), y(rng));
+    if (grid(i)) continue;
+    const Eigen::Vector2d p = grid.cell_center(i);
+    if (map.value(p).norm() < clearance) continue;
+    return Pose2(p.x(), p.y(), yaw(rng));
+  }
+}
+
+/// A small asymmetric room: 5.3 x 4.3 m in a 6 x 5 m grid of 0.1 m cells, two interior walls
+/// and a pillar.
+OccupancyGrid<2> small_room() {
+  OccupancyGrid<2> g(Eigen::Vector2i(60, 50), GridFrame<2>(0.1, Eigen::Vector2d(-1.0, 2.0)), 0);
+  for (int y = 0; y < 50; ++y) {
+    for (int x = 0; x < 60; ++x) {
+      // Walls inside a margin of free cells (the spline is clamped at the grid's edge).
+      const bool border =
+          ((x == 3 || x == 56) && y >= 3 && y <= 46) || ((y == 3 || y == 46) && x >= 3 && x <= 56);
+      const bool wall = (x == 20 && y < 30 && y > 3) || (y == 35 && x > 35 && x < 56);
+      const bool pillar = x >= 44 && x <= 46 && y >= 10 && y <= 12;
+      g(Eigen::Vector2i(x, y)) = (border || wall || pillar) ? 1 : 0;
+    }
+  }
+  return g;
+}
+
+TEST(GlobalLocalization, BestLeafIsTheExhaustiveSearchsMinimum) {
+  const OccupancyGrid<2> grid = small_room();
+  const VdtMap2 map = VdtMap2::build(grid);
+  GlobalLocalizationOptions o;
+  o.angular_step = 3.0 * kPi / 180.0;
+  o.max_readings = 40;
+  o.levels = 4;
+  const GlobalLocalizer loc(map, grid, o);
+  // Surface cell centres (occupied, a free face-neighbour) for the brute-force distance: the
+  // VDT's features, which a reading rounded into the pillar is measured to.
+  std::vector<Eigen::Vector2i> occupied;
+  for (int y = 0; y < 50; ++y) {
+    for (int x = 0; x < 60; ++x) {
+      if (!grid(Eigen::Vector2i(x, y))) continue;
+      bool exposed = false;
+      for (const Eigen::Vector2i& d : {Eigen::Vector2i(1, 0), Eigen::Vector2i(-1, 0),
+                                       Eigen::Vector2i(0, 1), Eigen::Vector2i(0, -1)}) {
+        const Eigen::Vector2i j = Eigen::Vector2i(x, y) + d;
+        exposed |= grid.contains(j) && !grid(j);
+      }
+      if (exposed) occupied.emplace_back(x, y);
+    }
+  }
+  const double tau2 = o.truncation * o.truncation, h = 0.1;
+  std::mt19937 rng(11);
+  int accepted = 0;
+  for (int trial = 0; trial < 3; ++trial) {
+    const Pose2 truth = random_free_pose(grid, map, rng, 0.3);
+    const ScanPoints scan = scan_in(grid, truth, 0.01, rng);
+    const GlobalLocalizationResult r = loc.localize(scan);
+    // The readings the localizer scores: max_readings evenly over the scan.
+    std::vector<Eigen::Vector2d> pts;
+    for (int k = 0; k < o.max_readings; ++k) {
+      pts.push_back(scan.points[static_cast<std::size_t>(k) * scan.size() / o.max_readings]);
+    }
+    const int angles = static_cast<int>(std::ceil(2.0 * kPi / o.angular_step - 1e-9));
+    double best = std::numeric_limits<double>::infinity();
+    for (int a = 0; a < angles; ++a) {
+      const Eigen::Rotation2Dd rot(a * 2.0 * kPi / angles);
+      std::vector<Eigen::Vector2i> off;
+      for (const auto& p : pts) {
+        const Eigen::Vector2d u = rot * p / h;
+        off.emplace_back(static_cast<int>(std::lround(u.x())),
+                         static_cast<int>(std::lround(u.y())));
+      }
+      for (int cy = 0; cy < 50; ++cy) {
+        for (int cx = 0; cx < 60; ++cx) {
+          if (grid(Eigen::Vector2i(cx, cy))) continue;
+          double s = 0.0;
+          for (const auto& d : off) {
+            const Eigen::Vector2i c(cx + d.x(), cy + d.y());
+            if (c.x() < 0 || c.y() < 0 || c.x() >= 60 || c.y() >= 50) {
+              s += tau2;
+              continue;
+            }
+            double d2 = std::numeric_limits<double>::infinity();
+            for (const auto& q : occupied) d2 = std::min(d2, (c - q).cast<double>().squaredNorm());
+            s += std::min(d2 * h * h, tau2);
+            if (s >= best) break;
+          }
+          best = std::min(best, s);
+        }
+      }
+    }
+    EXPECT_NEAR(r.best_leaf_score, best, 1e-4 * (1.0 + best)) << "trial " << trial;
+    // Accepted only where right (the room's halves look alike from some poses: refused there).
+    if (r.result.status == LocalizationStatus::kConverged) {
+      ++accepted;
+      EXPECT_LT((r.result.pose.head<2>() - truth.head<2>()).norm(), 0.1);
+      EXPECT_LT(std::abs(wrap_angle(r.result.pose[2] - truth[2])), 0.05);
+    } else {
+      EXPECT_TRUE(r.ambiguous);
+    }
+  }
+  EXPECT_GE(accepted, 1);
+}
+
+TEST(GlobalLocalization, FindsRandomPosesOfTheFloorPlanAndAcceptsNoWrongOne) {
+  const auto& w = test::world();
+  const GlobalLocalizer loc(w.map, w.plan.occupancy);
+  std::mt19937 rng(5);
+  int accepted = 0, right = 0;
+  const int trials = 12;
+  double seconds = 0.0;
+  for (int t = 0; t < trials; ++t) {
+    const Pose2 truth = random_free_pose(w.plan.occupancy, w.map, rng, 0.3);
+    const ScanPoints scan = scan_in(w.plan.occupancy, truth, 0.02, rng);
+    const GlobalLocalizationResult r = loc.localize(scan);
+    seconds += r.seconds;
+    const bool ok = (r.result.pose.head<2>() - truth.head<2>()).norm() < 0.3 &&
+                    std::abs(wrap_angle(r.result.pose[2] - truth[2])) < 0.1;
+    if (r.result.status == LocalizationStatus::kConverged) {
+      ++accepted;
+      EXPECT_TRUE(ok) << "wrong pose accepted at trial " << t;
+    }
+    right += ok ? 1 : 0;
+  }
+  std::printf("floor plan: %d/%d right, %d accepted, %.3f s per scan\n", right, trials, accepted,
+              seconds / trials);
+  EXPECT_GE(accepted, trials - 2);
+}
+
+TEST(GlobalLocalization, SymmetricRoomIsRefusedAsAmbiguous) {
+  // A 5 x 3 m empty rectangle (walls through cell centres 3 and 53, 3 and 33) in a margin:
+  // every pose has its twin turned by pi about the centre (2.85, 1.85).
+  OccupancyGrid<2> g(Eigen::Vector2i(57, 37), GridFrame<2>(0.1, Eigen::Vector2d::Zero()), 0);
+  for (int y = 0; y < 37; ++y) {
+    for (int x = 0; x < 57; ++x) {
+      const bool in = x >= 3 && x <= 53 && y >= 3 && y <= 33;
+      g(Eigen::Vector2i(x, y)) = (in && (x == 3 || x == 53 || y == 3 || y == 33)) ? 1 : 0;
+    }
+  }
+  const VdtMap2 map = VdtMap2::build(g);
+  const GlobalLocalizer loc(map, g);
+  std::mt19937 rng(2);
+  const Pose2 truth(1.55, 1.25, 0.4);  // a cell centre
+  const GlobalLocalizationResult r = loc.localize(scan_in(g, truth, 0.01, rng));
+  EXPECT_EQ(r.result.status, LocalizationStatus::kRefused);
+  EXPECT_TRUE(r.ambiguous);
+  const Pose2 twin(5.7 - 1.55, 3.7 - 1.25, wrap_angle(0.4 + kPi));
+  bool found = false;
+  for (const Pose2& a : r.alternatives) {
+    found |=
+        (a.head<2>() - twin.head<2>()).norm() < 0.2 || (a.head<2>() - truth.head<2>()).norm() < 0.2;
+  }
+  EXPECT_TRUE(found);
+}
+
+TEST(GlobalLocalization, RandomSamplingScoresItsBestSampleAndRefinesIt) {
+  const OccupancyGrid<2> grid = small_room();
+  const VdtMap2 map = VdtMap2::build(grid);
+  const GlobalLocalizer loc(map, grid);
+  std::mt19937 rng(3);
+  const Pose2 truth = random_free_pose(grid, map, rng, 0.3);
+  const ScanPoints scan = scan_in(grid, truth, 0.01, rng);
+  const GlobalLocalizationResult bb = loc.localize(scan);
+  const GlobalLocalizationResult rs = loc.localize_random(scan, 0.0, 1, 20000);
+  EXPECT_EQ(rs.nodes % 64, 0U);
+  EXPECT_GE(rs.nodes, 20000U);
+  // Sampling never beats the exhaustive optimum on the same leaves.
+  EXPECT_GE(rs.best_leaf_score, bb.best_leaf_score - 1e-6);
+  if (rs.result.status == LocalizationStatus::kConverged) {
+    EXPECT_LT((rs.result.pose.head<2>() - truth.head<2>()).norm(), 0.3);
+  }
+}
+
+TEST(GlobalLocalization, BadOptionsAndEmptyScans) {
+  const OccupancyGrid<2> grid = small_room();
+  const VdtMap2 map = VdtMap2::build(grid);
+  GlobalLocalizationOptions o;
+  o.truncation = 0.0;
+  EXPECT_THROW(GlobalLocalizer(map, grid, o), ConfigError);
+  o = {};
+  o.accept_fraction = 1.5;
+  EXPECT_THROW(GlobalLocalizer(map, grid, o), ConfigError);
+  const OccupancyGrid<2> other(Eigen::Vector2i(10, 10), GridFrame<2>(0.1, Eigen::Vector2d::Zero()));
+  EXPECT_THROW(GlobalLocalizer(map, other), ConfigError);
+  const GlobalLocalizer loc(map, grid);
+  EXPECT_EQ(loc.localize(ScanPoints{}).result.status, LocalizationStatus::kTooFewObservations);
+}
+
+}  // namespace
+}  // namespace vdtnav
