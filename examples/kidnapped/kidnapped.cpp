@@ -153,6 +153,9 @@ int main(int argc, char** argv) {
   app.add_option("--data", data,
                  "real data folder (e.g. ../shared/data): the hospital section, fetch-office and "
                  "Intel lab; without it, the generated floor plan only");
+  std::vector<std::string> only;
+  app.add_option("--maps", only,
+                 "run these maps only (generated, hospital-section, fetch-office, intel)");
   app.add_option("--trials", trials, "scans per map")
       ->capture_default_str()
       ->check(CLI::Range(1, 100000));
@@ -209,6 +212,13 @@ int main(int argc, char** argv) {
       cases.push_back(std::move(c));
     }
 
+    if (!only.empty()) {
+      cases.erase(std::remove_if(cases.begin(), cases.end(),
+                                 [&](const Case& c) {
+                                   return std::find(only.begin(), only.end(), c.map) == only.end();
+                                 }),
+                  cases.end());
+    }
     std::ofstream csv(out + "/table.csv");
     csv << "map,scans,method,trials,success_pct,median_s,p95_s\n";
     std::ofstream md(out + "/table.md");

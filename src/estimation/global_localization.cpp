@@ -145,8 +145,8 @@ void GlobalLocalizer::offsets(const Readings& r, double phi,
   }
 }
 
-double GlobalLocalizer::bound(int level, int cx, int cy,
-                              const std::vector<Eigen::Vector2i>& o) const {
+double GlobalLocalizer::bound(int level, int cx, int cy, const std::vector<Eigen::Vector2i>& o,
+                              double stop_at) const {
   const std::vector<float>& grid = pooled_[static_cast<std::size_t>(level)];
   const float tau2 = static_cast<float>(options_.truncation * options_.truncation);
   const int span = 1 << level;
@@ -156,6 +156,7 @@ double GlobalLocalizer::bound(int level, int cx, int cy,
     // A window partly outside the map: its inside part (cells outside count tau^2).
     if (x + span <= 0 || y + span <= 0 || x >= width_ || y >= height_) {
       s += tau2;
+      if (s > stop_at) return s;
       continue;
     }
     if (x < 0 || y < 0) {
@@ -165,6 +166,7 @@ double GlobalLocalizer::bound(int level, int cx, int cy,
       y = std::max(y, 0);
     }
     s += grid[static_cast<std::size_t>(y) * width_ + x];
+    if (s > stop_at) return s;  // a sum of non-negative terms: already past what is kept
   }
   return s;
 }
@@ -194,23 +196,63 @@ GlobalLocalizationResult GlobalLocalizer::localize(const ScanPoints& scan) const
     int angle, level, cx, cy;
     bool operator<(const Node& o) const { return lb > o.lb; }  // min-heap
   };
-  std::priority_queue<Node> queue;
+  std::vector<Node> roots;
   const int span = 1 << levels_;
   for (int a = 0; a < angles; ++a) {
     for (int cy = 0; cy < height_; cy += span) {
       for (int cx = 0; cx < width_; cx += span) {
         if (free_[levels_][static_cast<std::size_t>(cy) * width_ + cx] == 0) continue;
-        queue.push({bound(levels_, cx, cy, offs[a]), a, levels_, cx, cy});
+        roots.push_back({bound(levels_, cx, cy, offs[a]), a, levels_, cx, cy});
         ++out.nodes;
       }
     }
   }
-  // Best-first: leaves pop in order of score; keep the best and distinct alternatives.
   const double n_tau2 =
       static_cast<double>(r.points.size()) * options_.truncation * options_.truncation;
+  // A first leaf by greedy descent from the best few roots: every leaf worth popping (the best
+  // and its alternatives) scores at most its score plus the margin, so nodes bounded above that
+  // are never needed, and their bounds stop summing there.
+  const auto children = [&](const Node& node, double stop_at, std::vector<Node>* out_nodes) {
+    const int k = node.level - 1, half = 1 << k;
+    for (int dy : {0, half}) {
+      for (int dx : {0, half}) {
+        const int cx = node.cx + dx, cy = node.cy + dy;
+        if (cx >= width_ || cy >= height_) continue;
+        if (free_[k][static_cast<std::size_t>(cy) * width_ + cx] == 0) continue;
+        const double lb = bound(k, cx, cy, offs[node.angle], stop_at);
+        ++out.nodes;
+        if (lb <= stop_at) out_nodes->push_back({lb, node.angle, k, cx, cy});
+      }
+    }
+  };
+  double greedy = std::numeric_limits<double>::infinity();
+  {
+    std::vector<Node> order = roots;
+    const std::size_t tries = std::min<std::size_t>(order.size(), 16);
+    std::partial_sort(order.begin(), order.begin() + static_cast<std::ptrdiff_t>(tries),
+                      order.end(), [](const Node& a, const Node& b) { return a.lb < b.lb; });
+    std::vector<Node> kids;
+    for (std::size_t t = 0; t < tries; ++t) {
+      Node node = order[t];
+      while (node.level > 0) {
+        kids.clear();
+        children(node, std::numeric_limits<double>::infinity(), &kids);
+        if (kids.empty()) break;
+        node = *std::min_element(kids.begin(), kids.end(),
+                                 [](const Node& a, const Node& b) { return a.lb < b.lb; });
+      }
+      if (node.level == 0) greedy = std::min(greedy, node.lb);
+    }
+  }
+  double limit = greedy + options_.alternative_margin * n_tau2;
+  std::priority_queue<Node> queue;
+  for (const Node& n : roots) {
+    if (n.lb <= limit) queue.push(n);
+  }
+  // Best-first: leaves pop in order of score; keep the best and distinct alternatives.
   std::vector<Leaf> leaves;
   std::vector<Pose2> poses;
-  double limit = std::numeric_limits<double>::infinity();
+  std::vector<Node> kids;
   while (!queue.empty()) {
     const Node node = queue.top();
     queue.pop();
@@ -221,22 +263,15 @@ GlobalLocalizationResult GlobalLocalizer::localize(const ScanPoints& scan) const
       bool is_new = true;
       for (const Pose2& q : poses) is_new = is_new && distinct(pose, q, options_);
       if (!is_new) continue;
-      if (leaves.empty()) limit = node.lb + options_.alternative_margin * n_tau2;
+      if (leaves.empty()) limit = std::min(limit, node.lb + options_.alternative_margin * n_tau2);
       leaves.push_back(leaf);
       poses.push_back(pose);
       if (static_cast<int>(leaves.size()) >= options_.candidates) break;
       continue;
     }
-    const int k = node.level - 1, half = 1 << k;
-    for (int dy : {0, half}) {
-      for (int dx : {0, half}) {
-        const int cx = node.cx + dx, cy = node.cy + dy;
-        if (cx >= width_ || cy >= height_) continue;
-        if (free_[k][static_cast<std::size_t>(cy) * width_ + cx] == 0) continue;
-        queue.push({bound(k, cx, cy, offs[node.angle]), node.angle, k, cx, cy});
-        ++out.nodes;
-      }
-    }
+    kids.clear();
+    children(node, limit, &kids);
+    for (const Node& k : kids) queue.push(k);
   }
   const std::size_t nodes = out.nodes;
   out = decide(scan, poses);
@@ -320,6 +355,12 @@ GlobalLocalizationResult GlobalLocalizer::decide(const ScanPoints& scan,
   for (const Pose2& s : starts) {
     Refined f;
     f.result = optimizer_.solve(scan, s);
+    if (f.result.status == LocalizationStatus::kNotConverged) {
+      // Stopped at its iteration limit from a start a cell and a heading step away: once more.
+      const int spent = f.result.iterations;
+      f.result = optimizer_.solve(scan, f.result.pose);
+      f.result.iterations += spent;
+    }
     if (f.result.status == LocalizationStatus::kDiverged) continue;
     f.score = truncated_vcd(model, scan, f.result.pose, options_.truncation);
     f.explained = explained_fraction(model, scan, f.result.pose, options_.explained_distance);

@@ -18,6 +18,7 @@
 /// (a symmetric building: the ambiguity is reported, not guessed).
 
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "vdtnav/estimation/localizer.hpp"
@@ -107,9 +108,10 @@ class GlobalLocalizer {
   [[nodiscard]] double angular_step(const Readings& r) const;
   /// Cell offsets of the readings at heading phi (grid axes).
   void offsets(const Readings& r, double phi, std::vector<Eigen::Vector2i>* out) const;
-  /// Truncated score of box (level, cx, cy) with the given offsets.
-  [[nodiscard]] double bound(int level, int cx, int cy,
-                             const std::vector<Eigen::Vector2i>& o) const;
+  /// Truncated score of box (level, cx, cy) with the given offsets; stops summing (returning
+  /// a value above it) once past stop_at.
+  [[nodiscard]] double bound(int level, int cx, int cy, const std::vector<Eigen::Vector2i>& o,
+                             double stop_at = std::numeric_limits<double>::infinity()) const;
   [[nodiscard]] Pose2 leaf_pose(const Leaf& leaf, double step) const;
   /// Refines the leaves (distinct, best first) and decides.
   [[nodiscard]] GlobalLocalizationResult decide(const ScanPoints& scan,
