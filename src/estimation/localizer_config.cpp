@@ -230,7 +230,28 @@ void visit(V& v, ActiveBeamLocalizerOptions& o) {
 }
 
 template <typename V>
+void visit(V& v, GlobalLocalizationOptions& o) {
+  v.number("truncation", o.truncation, "m", "tau: a reading farther from the map counts tau^2");
+  v.integer("max_readings", o.max_readings, "count", "readings scored, evenly over the scan");
+  v.number("angular_step", o.angular_step, "rad",
+           "between headings; <= 0: resolution / the scan's 90th-percentile range");
+  v.integer("levels", o.levels, "count", "coarsest box 2^levels cells; < 0: about 3.2 m");
+  v.integer("candidates", o.candidates, "count", "distinct leaves refined by the optimizer");
+  v.number("distinct_distance", o.distinct_distance, "m", "poses this far apart are distinct");
+  v.number("distinct_angle", o.distinct_angle, "rad", "poses this much turned are distinct");
+  v.number("alternative_margin", o.alternative_margin, "fraction of N tau^2",
+           "alternatives scoring at most best + this are refined");
+  v.number("explained_distance", o.explained_distance, "m",
+           "a reading with a smaller disparity is explained");
+  v.number("accept_fraction", o.accept_fraction, "fraction",
+           "the refined best must explain this much of the scan");
+  v.number("ambiguity_margin", o.ambiguity_margin, "fraction",
+           "a distinct alternative explaining within this of the best: ambiguous, refused");
+}
+
+template <typename V>
 void visit_section(V& v, const std::string& section, LocalizerSettings& s) {
+  if (section == "global") visit(v, s.global);
   if (section == "active-ekf") visit(v, s.active_ekf);
   if (section == "passive-ekf") visit(v, s.passive_ekf);
   if (section == "vdt-opt") visit(v, s.vdt_opt);
@@ -245,12 +266,15 @@ const char* section_doc(const std::string& section) {
   if (section == "udt") return "UDT baselines udt-opt and udt-ekf (chamfer matching)";
   if (section == "active-ekf") return "one reading per scan, the beam pointed by (4.1) (ch. 4)";
   if (section == "passive-ekf") return "one reading per scan, the beam not pointed (ch. 4)";
+  if (section == "global")
+    return "global localization from one scan, --init global (branch and bound; refines with "
+           "vdt-opt's settings)";
   return "particle filter (AMCL's likelihood field)";
 }
 
 const std::vector<std::string>& sections() {
-  static const std::vector<std::string> kSections{"vdt-opt", "vdt-ekf",    "udt",
-                                                  "pf",      "active-ekf", "passive-ekf"};
+  static const std::vector<std::string> kSections{"vdt-opt",    "vdt-ekf",     "udt",   "pf",
+                                                  "active-ekf", "passive-ekf", "global"};
   return kSections;
 }
 
@@ -448,7 +472,7 @@ LocalizerSettings parse_localizer_config(const std::string& text, const std::str
   if (!root.IsMap()) {
     throw ConfigError(source + ":" + std::to_string(root.Mark().line + 1) +
                       ": expected a mapping of sections (vdt-opt, vdt-ekf, udt, pf, active-ekf, "
-                      "passive-ekf)");
+                      "passive-ekf, global)");
   }
   for (auto it = root.begin(); it != root.end(); ++it) {
     const std::string name = it->first.as<std::string>();
@@ -457,7 +481,7 @@ LocalizerSettings parse_localizer_config(const std::string& text, const std::str
     if (!known) {
       throw ConfigError(source + ":" + std::to_string(it->first.Mark().line + 1) +
                         ": unknown section '" + name +
-                        "' (known: vdt-opt, vdt-ekf, udt, pf, active-ekf, passive-ekf)");
+                        "' (known: vdt-opt, vdt-ekf, udt, pf, active-ekf, passive-ekf, global)");
     }
     Reader r(it->second, source, name);
     visit_section(r, name, s);
@@ -482,7 +506,7 @@ std::string localizer_settings_yaml(const LocalizerSettings& settings, const std
   out << "# vdtnav localizer settings: every key, [unit] and meaning (README, \"Settings "
          "file\").\n";
   for (const std::string& sec : sections()) {
-    if (!only.empty() && sec != only) continue;
+    if (!only.empty() && sec != only && sec != "global") continue;  // --init global: any method
     out << sec << ":  # " << section_doc(sec) << "\n";
     Writer w(out, 2);
     visit_section(w, sec, s);

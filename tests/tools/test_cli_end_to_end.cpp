@@ -168,6 +168,28 @@ TEST(CliEndToEnd, MapLocalizeEvalRecoverTheSimulatedTrajectory) {
   EXPECT_LT(rmse, 0.05);  // measured 0.029 m: a map built from 0.02 m-noise scans at 0.05 m
   EXPECT_GT(dead_reckoning, 10.0 * rmse);  // the odometry alone would not do
 
+  // --init global: no initial pose; the first scans that localize without ambiguity start the
+  // track, the ones before are not written, and the track matches the truth as well.
+  ASSERT_EQ(
+      run_cli("localize --map " + (d / "map.yaml").string() + " --log " + (d / "run.log").string() +
+                  " --method vdt-opt --init global --out " + (d / "global.tum").string(),
+              d / "global.txt"),
+      0)
+      << read_all(d / "global.txt");
+  EXPECT_TRUE(contains(read_all(d / "global.txt"), "--init global, scan "))
+      << read_all(d / "global.txt");
+  const TumTrajectory global = load_tum_trajectory((d / "global.tum").string());
+  ASSERT_GE(global.poses.size(), f.run.size() - 10);
+  const std::size_t skipped = f.run.size() - global.poses.size();
+  double global_sq = 0.0;
+  for (std::size_t k = 0; k < global.poses.size(); ++k) {
+    EXPECT_NEAR(global.poses[k].t, kT0 + f.run.times[k + skipped], 1e-6);
+    global_sq +=
+        (pose2_from_pose3(global.poses[k].pose).head<2>() - f.run.truth[k + skipped].head<2>())
+            .squaredNorm();
+  }
+  EXPECT_LT(std::sqrt(global_sq / static_cast<double>(global.poses.size())), 0.05);
+
   // The covariance CSV: the header of the issue, one row per scan, positive definite.
   std::ifstream cov(d / "est_cov.csv");
   std::string line;

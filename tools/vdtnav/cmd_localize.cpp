@@ -57,8 +57,10 @@ void run_localize(const LocalizeArgs& a) {
     if (value->empty()) throw ConfigError(std::string("localize: ") + flag + " is required");
   }
   const Eigen::Vector3d sig = parse_sigmas(a.init_sigma, "--init-sigma");
-  const std::optional<Pose2> init_arg =
-      a.init.empty() ? std::nullopt : std::optional<Pose2>(parse_pose(a.init, "--init"));
+  const bool init_global = a.init == "global";
+  const std::optional<Pose2> init_arg = a.init.empty() || init_global
+                                            ? std::nullopt
+                                            : std::optional<Pose2>(parse_pose(a.init, "--init"));
   std::fprintf(stderr, "[localize] loading map %s\n", a.map.c_str());
   const LoadedMap map = load_map(a.map);
   std::fprintf(stderr, "[localize] map %d x %d cells of %.3f m, VDT built in %.3f s\n",
@@ -91,9 +93,42 @@ void run_localize(const LocalizeArgs& a) {
   for (std::size_t i : idx) times.push_back(log.lasers[i].time);
   const std::vector<OdometryStep> steps = odometry_steps(times, odom.poses);
 
-  const Pose2 init = init_arg ? *init_arg : log.lasers[idx.front()].pose;
+  Pose2 init = init_arg ? *init_arg : log.lasers[idx.front()].pose;
+  Eigen::Matrix3d init_cov =
+      Eigen::Vector3d(sig[0] * sig[0], sig[1] * sig[1], sig[2] * sig[2]).asDiagonal();
+  std::size_t first = 0;  // the first scan localized (--init global: the first one accepted)
+  if (init_global) {
+    GlobalLocalizationOptions g = settings.global;
+    g.optimizer = settings.vdt_opt;
+    const GlobalLocalizer global(*map.vdt, map.occupancy, g);
+    const std::size_t tries = std::min<std::size_t>(idx.size(), 50);
+    bool found = false;
+    for (; first < tries && !found; ++first) {
+      LaserScan scan = log.lasers[idx[first]].scan;
+      scan.sigma_range = a.sigma_range;
+      const GlobalLocalizationResult r = global.localize(scan_points(scan));
+      std::fprintf(
+          stderr, "[localize] --init global, scan %zu: %s (%.0f %% explained%s) in %.3f s\n", first,
+          r.result.status == LocalizationStatus::kConverged ? "accepted" : "refused",
+          100.0 * r.explained, r.ambiguous ? ", ambiguous" : "", r.seconds);
+      if (r.result.status != LocalizationStatus::kConverged) continue;
+      found = true;
+      init = r.result.pose;
+      if (r.result.has_covariance) init_cov = r.result.covariance;
+    }
+    if (!found) {
+      throw ConfigError(a.log + ": --init global: none of the first " + std::to_string(tries) +
+                        " scans could be localized on " + a.map +
+                        " without ambiguity (give --init x,y,yaw)");
+    }
+    --first;
+    if (first > 0) {
+      std::fprintf(stderr, "[localize] starting at scan %zu; the %zu before it are not written\n",
+                   first, first);
+    }
+  }
   std::unique_ptr<Localizer2D> loc = make_localizer(a.method, *map.vdt, map.occupancy, settings);
-  loc->reset(init, Eigen::Vector3d(sig[0] * sig[0], sig[1] * sig[1], sig[2] * sig[2]).asDiagonal());
+  loc->reset(init, init_cov);
 
   std::ofstream traj(a.out);
   if (!traj) throw IoError(a.out + ": cannot open for writing");
@@ -113,11 +148,12 @@ void run_localize(const LocalizeArgs& a) {
   const auto wall0 = std::chrono::steady_clock::now();
   {
     ProgressBar bar("[localize] " + a.method, idx.size(), a.quiet);
-    for (std::size_t k = 0; k < idx.size(); ++k) {
+    for (std::size_t k = first; k < idx.size(); ++k) {
       LaserScan scan = log.lasers[idx[k]].scan;
       scan.sigma_range = a.sigma_range;
       const auto t0 = std::chrono::steady_clock::now();
-      const LocalizationResult r = loc->update(steps[k], scan);
+      // The first scan localized starts at the reset pose: no motion into it.
+      const LocalizationResult r = loc->update(k == first ? OdometryStep{} : steps[k], scan);
       const double ms =
           std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
       ms_sum += ms;
@@ -182,7 +218,9 @@ void add_localize_command(CLI::App& app) {
       ->check(CLI::IsMember(localizer_methods()))
       ->capture_default_str();
   cmd->add_option("--init", args->init,
-                  "Initial pose x,y,yaw in the map frame (default: the log's first scan pose)");
+                  "Initial pose x,y,yaw in the map frame, or 'global': found from the first scans "
+                  "with no prior (branch and bound, settings section global:; default: the log's "
+                  "first scan pose)");
   cmd->add_option("--init-sigma", args->init_sigma,
                   "Initial standard deviations sx,sy,syaw (metres, metres, radians; >= 0)")
       ->capture_default_str();

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "vdtnav/estimation/active_beam_localizer.hpp"
+#include "vdtnav/estimation/global_localization.hpp"
 #include "vdtnav/estimation/localizer.hpp"
 #include "vdtnav/estimation/particle_filter.hpp"
 #include "vdtnav/estimation/udt_localizers.hpp"
@@ -27,6 +28,8 @@ struct LocalizerSettings {
   ActiveBeamLocalizerOptions active_ekf;
   /// The same sensor kept at the robot's heading (or turning blindly: strategy passive-rotate).
   ActiveBeamLocalizerOptions passive_ekf = passive_beam();
+  /// Global localization (`vdtnav localize --init global`); its refinement uses vdt_opt.
+  GlobalLocalizationOptions global;
 
   [[nodiscard]] static ActiveBeamLocalizerOptions passive_beam() {
     ActiveBeamLocalizerOptions o;
