@@ -2,7 +2,8 @@
 # Installs vdtnav's build dependencies from Debian (idempotently: only what is missing; as root
 # without sudo, with sudo otherwise), then configures and builds one configuration.
 #
-#   scripts/setup.sh [release|asan]        default: release
+#   scripts/setup.sh [release|asan|fuzz [TARGET...]]   default: release
+#   (fuzz: the libFuzzer targets given, default all of them)
 # Builds into build/<config>. Nothing is downloaded but Debian packages.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -12,6 +13,7 @@ packages=(build-essential cmake pkg-config git
           libeigen3-dev libyaml-cpp-dev libstb-dev zlib1g-dev
           libgtest-dev libgmock-dev libbenchmark-dev libopencv-dev libcli11-dev libceres-dev
           libpcl-dev liboctomap-dev)
+if [ "$config" = fuzz ]; then packages+=(clang-14 libclang-rt-14-dev); fi
 
 missing=()
 for p in "${packages[@]}"; do
@@ -37,7 +39,20 @@ case "$config" in
       -DVDTNAV_WERROR=ON -DVDTNAV_SANITIZE=ON -DVDTNAV_BUILD_EXAMPLES=OFF \
       -DVDTNAV_BUILD_BENCHMARKS=OFF -DVDTNAV_BUILD_FRONTENDS=OFF >/dev/null
     ;;
-  *) echo "usage: scripts/setup.sh [release|asan]" >&2; exit 2 ;;
+  fuzz)
+    # The parsers' libFuzzer targets only: clang, the library with fuzzer coverage and sanitizers.
+    cmake -S . -B build/fuzz -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_COMPILER=clang++-14 \
+      -DCMAKE_C_COMPILER=clang-14 -DCMAKE_CXX_FLAGS="-fsanitize=fuzzer-no-link" \
+      -DCMAKE_CXX_FLAGS_DEBUG="-O1 -g1" -DVDTNAV_SANITIZE=ON -DVDTNAV_BUILD_FUZZERS=ON \
+      -DVDTNAV_BUILD_TESTS=OFF -DVDTNAV_BUILD_EXAMPLES=OFF -DVDTNAV_BUILD_BENCHMARKS=OFF \
+      -DVDTNAV_BUILD_TOOLS=OFF -DVDTNAV_BUILD_FRONTENDS=OFF >/dev/null
+    shift || true
+    targets=("${@:-vdtnav_fuzzers}")
+    echo "[setup] building ${targets[*]} in build/fuzz with $jobs jobs"
+    cmake --build build/fuzz -j "$jobs" --target "${targets[@]}"
+    exit 0
+    ;;
+  *) echo "usage: scripts/setup.sh [release|asan|fuzz]" >&2; exit 2 ;;
 esac
 echo "[setup] building build/$config with $jobs jobs"
 cmake --build "build/$config" -j "$jobs"

@@ -1,22 +1,28 @@
 #!/usr/bin/env bash
 # The test suite: a Release build with -Wall -Wextra -Wpedantic -Werror and all tests, the tests
-# again under AddressSanitizer + UndefinedBehaviorSanitizer, and the benchmarks in smoke mode.
+# again under AddressSanitizer + UndefinedBehaviorSanitizer, the benchmarks in smoke mode, and
+# the parsers' fuzz targets for a few seconds each (scripts/fuzz.sh runs them for longer).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 jobs="$(nproc)"
 
-echo "== [1/3] Release build (-Werror) and tests"
+echo "== [1/4] Release build (-Werror) and tests"
 scripts/setup.sh release
 ctest --test-dir build/release --output-on-failure -j "$jobs"
 
-echo "== [2/3] ASan + UBSan build and tests"
+echo "== [2/4] ASan + UBSan build and tests"
 scripts/setup.sh asan
 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
   ctest --test-dir build/asan --output-on-failure -j "$jobs"
 
-echo "== [3/3] Benchmarks, smoke mode (one short run each; numbers are not meaningful here)"
+echo "== [3/4] Benchmarks, smoke mode (one short run each; numbers are not meaningful here)"
 for b in build/release/bench/bench_*; do
   [ -x "$b" ] || continue
   "$b" --benchmark_min_time=0.01 --benchmark_format=console
 done
+echo "== [4/4] Fuzz targets of the parsers, 5 s each (clang, libFuzzer, ASan + UBSan)"
+# The settings-file target needs the whole localization library under clang: scripts/fuzz.sh
+# runs it; here the file parsers only.
+FUZZ_TARGETS="ros_map ros_map_image vdt_map_file carmen_log relations tum_trajectory
+  odometry_table point_set pan_tilt_csv camera_calibration camera_poses" scripts/fuzz.sh 5
 echo "== all tests passed"

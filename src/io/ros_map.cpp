@@ -5,6 +5,7 @@
 #include <cerrno>
 #include <charconv>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -172,8 +173,15 @@ int check_pnm(const std::vector<unsigned char>& b, const std::string& path) {
       while (pos < b.size() && b[pos] != '\n' && b[pos] != '\r') ++pos;
     }
     const std::size_t start = pos;
-    while (pos < b.size() && std::isdigit(b[pos]) && f < (1L << 30)) f = f * 10 + (b[pos++] - '0');
+    while (pos < b.size() && std::isdigit(b[pos])) {
+      f = f * 10 + (b[pos++] - '0');
+      // Fuzzing found width x height overflowing: no field may exceed 2^30.
+      if (f > (1L << 30)) throw FormatError(path, 0, "PGM/PPM header field too large");
+    }
     if (pos == start) throw FormatError(path, 0, "malformed PGM/PPM header");
+  }
+  if (field[0] < 1 || field[1] < 1) {
+    throw FormatError(path, 0, "PGM/PPM width and height must be >= 1");
   }
   ++pos;  // the single whitespace after maxval
   if (field[2] < 1 || field[2] > 255) {
@@ -181,8 +189,10 @@ int check_pnm(const std::vector<unsigned char>& b, const std::string& path) {
                       "PGM/PPM maxval " + std::to_string(field[2]) +
                           " is not supported (expected 1..255, 8-bit samples)");
   }
-  const auto need = static_cast<std::size_t>(field[0] * field[1] * (b[1] == '5' ? 1 : 3));
-  const std::size_t have = b.size() > pos ? b.size() - pos : 0;
+  // Both < 2^30: the product fits in 64 bits.
+  const std::uint64_t need = static_cast<std::uint64_t>(field[0]) *
+                             static_cast<std::uint64_t>(field[1]) * (b[1] == '5' ? 1U : 3U);
+  const std::uint64_t have = b.size() > pos ? b.size() - pos : 0;
   if (have < need) {
     throw FormatError(path, 0,
                       "truncated image data: expected " + std::to_string(need) +

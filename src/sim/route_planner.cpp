@@ -120,7 +120,9 @@ std::vector<double> dijkstra(const Graph& g, int source) {
   dist[source] = 0.0;
   queue.push({0.0, source});
   while (!queue.empty()) {
-    const auto [d, c] = queue.top();
+    // Plain variables, not a structured binding: a lambda may capture those only from C++20.
+    const double d = queue.top().first;
+    const int c = queue.top().second;
     queue.pop();
     if (d > dist[c]) continue;
     g.for_each_neighbour(c, [&](int nb, double cost) {

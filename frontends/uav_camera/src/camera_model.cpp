@@ -3,6 +3,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include <cmath>
+#include <exception>
 #include <fstream>
 #include <limits>
 #include <sstream>
@@ -97,7 +98,9 @@ CameraCalibration read_opencv(const std::string& path, std::string text) {
   cv::FileStorage fs;
   try {
     fs.open(text, cv::FileStorage::READ | cv::FileStorage::MEMORY);
-  } catch (const cv::Exception& e) {
+  } catch (const std::exception& e) {
+    // cv::Exception, and std::length_error from OpenCV's parser on some malformed keys (found
+    // by fuzzing, fuzz/regressions/camera_calibration-opencv-length-error.yml).
     throw FormatError(path, 0, std::string("not a readable OpenCV YAML/XML file: ") + e.what());
   }
   if (!fs.isOpened()) throw FormatError(path, 0, "not a readable OpenCV YAML/XML file");
@@ -111,7 +114,7 @@ CameraCalibration read_opencv(const std::string& path, std::string text) {
       throw FormatError(path, 0, std::string("key '") + key + "': expected an integer");
     }
     const double v = n.real();
-    if (v != std::floor(v)) {
+    if (v != std::floor(v) || std::abs(v) > 1e9) {
       throw FormatError(path, 0, std::string("key '") + key + "': expected an integer");
     }
     return static_cast<int>(v);
@@ -123,7 +126,7 @@ CameraCalibration read_opencv(const std::string& path, std::string text) {
     cv::Mat m;
     try {
       n >> m;
-    } catch (const cv::Exception&) {
+    } catch (const std::exception&) {
       m = cv::Mat();
     }
     if (m.empty()) {

@@ -267,5 +267,20 @@ TEST(CalibrationFiles, MissingFileIsAnIoErrorNamingIt) {
   }
 }
 
+TEST(CalibrationFiles, FuzzFindingOpenCvLengthErrorIsAFormatError) {
+  // fuzz_camera_calibration: OpenCV's FileStorage threw std::length_error on this file, which
+  // escaped read_calibration and terminated the program.
+  const std::string path =
+      std::string(VDTNAV_FUZZ_REGRESSIONS) + "/camera_calibration-opencv-length-error.yml";
+  try {
+    (void)read_calibration(path);
+    ADD_FAILURE() << "no error";
+  } catch (const FormatError& e) {
+    EXPECT_NE(std::string(e.what()).find("camera_calibration-opencv-length-error.yml"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
 }  // namespace
 }  // namespace vdtnav::uav_camera

@@ -1,0 +1,52 @@
+// Every input the fuzzers found a bug with (fuzz/regressions/<target>-<what>.<ext>), read again
+// by its parser: a vdtnav::Error naming the file, no crash (these tests also run under ASan and
+// UBSan). scripts/fuzz.sh writes new findings to build/fuzz/findings/<target>/.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "vdtnav/core/error.hpp"
+#include "vdtnav/io/ros_map.hpp"
+
+namespace vdtnav {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string tmp_dir() {
+  const fs::path dir = fs::path(VDTNAV_TEST_TMP) / "fuzz_regressions" /
+                       ::testing::UnitTest::GetInstance()->current_test_info()->name();
+  fs::create_directories(dir);
+  return dir.string();
+}
+
+/// The message of the vdtnav::Error `f` throws ("" when it throws none).
+template <typename F>
+std::string error_of(F&& f) {
+  try {
+    f();
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(FuzzRegressions, PnmWhoseWidthTimesHeightOverflowsIsAFormatError) {
+  // fuzz_ros_map_image: width and height of ten digits each multiplied past 2^63 (UBSan).
+  const std::string dir = tmp_dir();
+  fs::copy_file(fs::path(VDTNAV_FUZZ_REGRESSIONS) / "ros_map_image-pnm-size-overflow.pgm",
+                fs::path(dir) / "map.pgm", fs::copy_options::overwrite_existing);
+  {
+    std::ofstream y(dir + "/map.yaml");
+    y << "image: map.pgm\nresolution: 0.05\norigin: [0, 0, 0]\nnegate: 0\n"
+         "occupied_thresh: 0.65\nfree_thresh: 0.196\n";
+  }
+  const std::string msg = error_of([&] { (void)load_ros_map(dir + "/map.yaml"); });
+  EXPECT_NE(msg.find("map.pgm"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("too large"), std::string::npos) << msg;
+}
+
+}  // namespace
+}  // namespace vdtnav
