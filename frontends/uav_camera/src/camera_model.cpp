@@ -104,6 +104,7 @@ CameraCalibration read_opencv(const std::string& path, std::string text) {
     throw FormatError(path, 0, std::string("not a readable OpenCV YAML/XML file: ") + e.what());
   }
   if (!fs.isOpened()) throw FormatError(path, 0, "not a readable OpenCV YAML/XML file");
+  if (!fs.root().isMap()) throw FormatError(path, 0, "expected a map of keys at the top level");
 
   CameraCalibration c;
   auto read_int = [&](const char* key) {
@@ -123,6 +124,17 @@ CameraCalibration read_opencv(const std::string& path, std::string text) {
     const cv::FileNode n = fs[key];
     if (n.empty() || n.isNone())
       throw FormatError(path, 0, std::string("missing key '") + key + "'");
+    // OpenCV allocates rows x cols before it reads the data (fuzzing found 64 GB requests):
+    // a calibration matrix is small, check its size first.
+    const auto small = [&](const char* dim) {
+      const cv::FileNode d = n.isMap() ? n[dim] : cv::FileNode();
+      return !d.empty() && d.isInt() && d.real() >= 1.0 && d.real() <= 16.0;
+    };
+    if (!small("rows") || !small("cols")) {
+      throw FormatError(path, 0,
+                        std::string("key '") + key + "': expected an opencv-matrix of 1..16 rows "
+                        "and columns");
+    }
     cv::Mat m;
     try {
       n >> m;
@@ -266,7 +278,17 @@ CameraCalibration read_calibration(const std::string& path) {
   const bool opencv =
       text.find("opencv-matrix") != std::string::npos || text.compare(0, 5, "<?xml") == 0 ||
       text.find("<opencv_storage>") != std::string::npos || text.compare(0, 9, "%YAML:1.0") == 0;
-  return opencv ? read_opencv(path, std::move(text)) : read_ros(path, text);
+  if (!opencv) return read_ros(path, text);
+  try {
+    return read_opencv(path, std::move(text));
+  } catch (const Error&) {
+    throw;
+  } catch (const std::exception& e) {
+    // OpenCV asserts as it reads nodes (found by fuzzing: a root that is not a map,
+    // fuzz/regressions/camera_calibration-opencv-root-not-a-map.yml): any other exception is bad
+    // input too.
+    throw FormatError(path, 0, std::string("not a readable OpenCV YAML/XML file: ") + e.what());
+  }
 }
 
 void write_opencv_calibration(const std::string& path, const CameraCalibration& calibration) {

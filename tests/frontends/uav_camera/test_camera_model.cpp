@@ -282,5 +282,27 @@ TEST(CalibrationFiles, FuzzFindingOpenCvLengthErrorIsAFormatError) {
   }
 }
 
+TEST(CalibrationFiles, FuzzFindingRootNotAMapIsAFormatError) {
+  // fuzz_camera_calibration: OpenCV asserted (cv::Exception) reading a key of a root that is not
+  // a map, which escaped read_calibration and terminated the program.
+  const std::string path =
+      std::string(VDTNAV_FUZZ_REGRESSIONS) + "/camera_calibration-opencv-root-not-a-map.yml";
+  try {
+    (void)read_calibration(path);
+    ADD_FAILURE() << "no error";
+  } catch (const FormatError& e) {
+    EXPECT_NE(std::string(e.what()).find("camera_calibration-opencv-root-not-a-map.yml"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
+TEST(CalibrationFiles, FuzzFindingHugeMatrixIsAFormatErrorNotAnAllocation) {
+  // fuzz_camera_calibration: a matrix of absurd rows x cols made OpenCV allocate 64 GB.
+  const std::string path =
+      std::string(VDTNAV_FUZZ_REGRESSIONS) + "/camera_calibration-opencv-huge-matrix.yml";
+  EXPECT_THROW((void)read_calibration(path), FormatError);
+}
+
 }  // namespace
 }  // namespace vdtnav::uav_camera
