@@ -132,8 +132,9 @@ CameraCalibration read_opencv(const std::string& path, std::string text) {
     };
     if (!small("rows") || !small("cols")) {
       throw FormatError(path, 0,
-                        std::string("key '") + key + "': expected an opencv-matrix of 1..16 rows "
-                        "and columns");
+                        std::string("key '") + key +
+                            "': expected an opencv-matrix of 1..16 rows "
+                            "and columns");
     }
     cv::Mat m;
     try {
