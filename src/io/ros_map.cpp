@@ -9,9 +9,11 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <initializer_list>
 #include <iterator>
 #include <limits>
 #include <memory>
+#include <system_error>
 #include <utility>
 #include <vector>
 
@@ -152,6 +154,9 @@ RosMapMetadata parse_yaml(const std::string& yaml_path, std::size_t* image_line)
 
 // ---------------------------------------------------------------- image
 
+/// The most cells a map image may have (2^28: 16384 x 16384; its VDT alone would take ~5 GB).
+constexpr std::uint64_t kMaxImageCells = std::uint64_t{1} << 28;
+
 /// 8-bit pixels with 1 (grey), 2 (grey, alpha), 3 (RGB) or 4 (RGBA) channels, row 0 at the top.
 struct Image {
   int width = 0, height = 0, channels = 0;
@@ -207,7 +212,24 @@ Image decode_image(const std::string& path) {
   if (bytes.size() > static_cast<std::size_t>(std::numeric_limits<int>::max())) {
     throw FormatError(path, 0, "image file too large");
   }
+  // Formats told by their magic bytes only: stb_image also guesses TGA, which has none, and
+  // fuzzing found arbitrary bytes read as a TGA of 2 GB.
+  const auto starts = [&](std::initializer_list<unsigned char> magic) {
+    return bytes.size() >= magic.size() && std::equal(magic.begin(), magic.end(), bytes.begin());
+  };
+  if (!(maxval > 0 || starts({0x89, 'P', 'N', 'G'}) || starts({'B', 'M'}) ||
+        starts({0xFF, 0xD8, 0xFF}))) {
+    throw FormatError(path, 0,
+                      "unsupported map image format (expected PNG, binary PGM/PPM, BMP or JPEG)");
+  }
   Image img;
+  int w = 0, h = 0, c = 0;
+  if (stbi_info_from_memory(bytes.data(), static_cast<int>(bytes.size()), &w, &h, &c) == 1 &&
+      static_cast<std::uint64_t>(w) * static_cast<std::uint64_t>(h) > kMaxImageCells) {
+    throw FormatError(path, 0,
+                      "map image of " + std::to_string(w) + " x " + std::to_string(h) +
+                          " pixels: more than the 2^28 cells a map may have");
+  }
   // stbi_load converts 16-bit PNG to 8 bits (v >> 8), as map_server's SDL_image does.
   img.pixels.reset(stbi_load_from_memory(bytes.data(), static_cast<int>(bytes.size()), &img.width,
                                          &img.height, &img.channels, 0));
@@ -268,9 +290,12 @@ RosMap load_ros_map(const std::string& yaml_path) {
   const fs::path image(m.image);
   map.image_path =
       image.is_absolute() ? image.string() : (fs::path(yaml_path).parent_path() / image).string();
-  if (!fs::exists(map.image_path)) {
+  // The non-throwing form: fuzzing found a name too long for the file system throwing
+  // std::filesystem_error past every catch of vdtnav::Error.
+  std::error_code ec;
+  if (!fs::exists(map.image_path, ec)) {
     throw IoError(map.image_path + ": map image not found (key 'image' at " + yaml_path + ":" +
-                  std::to_string(image_line) + ")");
+                  std::to_string(image_line) + (ec ? "; " + ec.message() : std::string()) + ")");
   }
   const Image img = decode_image(map.image_path);
   map.cells = Grid<std::int8_t, 2>(
