@@ -219,8 +219,8 @@ Image decode_image(const std::string& path) {
   };
   if (!(maxval > 0 || starts({0x89, 'P', 'N', 'G'}) || starts({'B', 'M'}) ||
         starts({0xFF, 0xD8, 0xFF}))) {
-    throw FormatError(path, 0,
-                      "unsupported map image format (expected PNG, binary PGM/PPM, BMP or JPEG)");
+    throw FormatError(
+        path, 0, "cannot decode the map image: not a PNG, binary PGM/PPM (P5/P6), BMP or JPEG");
   }
   Image img;
   int w = 0, h = 0, c = 0;
