@@ -177,6 +177,18 @@ Pose2 GlobalLocalizer::leaf_pose(const Leaf& leaf, double step) const {
 }
 
 GlobalLocalizationResult GlobalLocalizer::localize(const ScanPoints& scan) const {
+  return search(scan, nullptr, 0.0);
+}
+
+GlobalLocalizationResult GlobalLocalizer::localize_better(const ScanPoints& scan, const Pose2& than,
+                                                          double margin) const {
+  VDTNAV_CHECK(std::isfinite(margin) && margin >= 0.0 && than.allFinite(),
+               "global localization: localize_better needs a finite pose and a margin >= 0");
+  return search(scan, &than, margin);
+}
+
+GlobalLocalizationResult GlobalLocalizer::search(const ScanPoints& scan, const Pose2* than,
+                                                 double margin) const {
   const auto t0 = Clock::now();
   GlobalLocalizationResult out;
   const Readings r = select_readings(scan);
@@ -184,6 +196,23 @@ GlobalLocalizationResult GlobalLocalizer::localize(const ScanPoints& scan) const
     out.result.status = LocalizationStatus::kTooFewObservations;
     out.seconds = since(t0);
     return out;
+  }
+  const double n_tau2 =
+      static_cast<double>(r.points.size()) * options_.truncation * options_.truncation;
+  // localize_better: only leaves scoring below `than`'s own leaf score (its cell, its exact
+  // heading) less the margin are searched; none of them: nothing explains the scan better.
+  double cap = std::numeric_limits<double>::infinity();
+  if (than != nullptr) {
+    std::vector<Eigen::Vector2i> o;
+    offsets(r, (*than)[2], &o);
+    const Eigen::Vector2i c = map_->frame().cell_of(than->head<2>());
+    const bool inside = c.x() >= 0 && c.y() >= 0 && c.x() < width_ && c.y() < height_;
+    cap = (inside ? bound(0, c.x(), c.y(), o) : n_tau2) - margin * n_tau2;
+    if (cap < 0.0) {
+      out.result.status = LocalizationStatus::kRefused;
+      out.seconds = since(t0);
+      return out;
+    }
   }
   const double step = angular_step(r);
   const int angles = static_cast<int>(std::ceil(2.0 * kPi / step - 1e-9));
@@ -207,8 +236,6 @@ GlobalLocalizationResult GlobalLocalizer::localize(const ScanPoints& scan) const
       }
     }
   }
-  const double n_tau2 =
-      static_cast<double>(r.points.size()) * options_.truncation * options_.truncation;
   // A first leaf by greedy descent from the best few roots: every leaf worth popping (the best
   // and its alternatives) scores at most its score plus the margin, so nodes bounded above that
   // are never needed, and their bounds stop summing there.
@@ -244,7 +271,7 @@ GlobalLocalizationResult GlobalLocalizer::localize(const ScanPoints& scan) const
       if (node.level == 0) greedy = std::min(greedy, node.lb);
     }
   }
-  double limit = greedy + options_.alternative_margin * n_tau2;
+  double limit = std::min(greedy + options_.alternative_margin * n_tau2, cap);
   std::priority_queue<Node> queue;
   for (const Node& n : roots) {
     if (n.lb <= limit) queue.push(n);
@@ -274,6 +301,11 @@ GlobalLocalizationResult GlobalLocalizer::localize(const ScanPoints& scan) const
     for (const Node& k : kids) queue.push(k);
   }
   const std::size_t nodes = out.nodes;
+  if (poses.empty()) {  // localize_better: nothing below the cap
+    out.result.status = LocalizationStatus::kRefused;
+    out.seconds = since(t0);
+    return out;
+  }
   out = decide(scan, poses);
   out.nodes = nodes;
   if (!leaves.empty()) {

@@ -250,8 +250,42 @@ void visit(V& v, GlobalLocalizationOptions& o) {
 }
 
 template <typename V>
+void visit(V& v, RecoveryOptions& o) {
+  v.flag("detect", o.detect,
+         "test a window of scans (vdt-opt, vdt-ekf) and report status lost when the map no "
+         "longer explains them");
+  v.flag("recover", o.recover,
+         "while lost, re-acquire by global localization (section global:); --recover / "
+         "--no-recover");
+  v.integer("window", o.lost.window, "scans", "W, scans whose mean explained fraction is tested");
+  v.integer("min_readings", o.min_readings, "count",
+            "scans with fewer readings do not enter the window (they say nothing either way)");
+  v.number("lost_fraction", o.lost.lost_fraction, "fraction",
+           "lost when the window explains less than this (readings within "
+           "global.explained_distance)");
+  v.number("drop", o.lost.drop, "fraction",
+           "also lost when the window explains this much less than the track so far (its "
+           "baseline)...");
+  v.number("sigmas", o.lost.sigmas, "std. dev.",
+           "or this many standard deviations of the track's explained fraction, if more");
+  v.integer("baseline_scans", o.lost.baseline_scans, "scans",
+            "the baseline's exponential mean spans this many scans");
+  v.integer("max_attempt_gap", o.max_attempt_gap, "scans",
+            "while lost, global localization on lost scans 1, 2, 4, 8, ... then every this many");
+  v.number("check_drop", o.check_drop, "fraction",
+           "a smaller fall below the baseline asks global localization for a clearly better pose "
+           "(<= 0: never)");
+  v.number("check_margin", o.check_margin, "fraction of N tau^2",
+           "clearly better: a truncated score lower by this");
+  v.number("found_fraction", o.lost.found_fraction, "fraction",
+           "without recovery (recover: false), found again when the window explains this much; "
+           "with it, only a confirmed global localization ends a loss");
+}
+
+template <typename V>
 void visit_section(V& v, const std::string& section, LocalizerSettings& s) {
   if (section == "global") visit(v, s.global);
+  if (section == "recovery") visit(v, s.recovery);
   if (section == "active-ekf") visit(v, s.active_ekf);
   if (section == "passive-ekf") visit(v, s.passive_ekf);
   if (section == "vdt-opt") visit(v, s.vdt_opt);
@@ -266,6 +300,8 @@ const char* section_doc(const std::string& section) {
   if (section == "udt") return "UDT baselines udt-opt and udt-ekf (chamfer matching)";
   if (section == "active-ekf") return "one reading per scan, the beam pointed by (4.1) (ch. 4)";
   if (section == "passive-ekf") return "one reading per scan, the beam not pointed (ch. 4)";
+  if (section == "recovery")
+    return "lost detection and kidnapped-robot recovery around vdt-opt and vdt-ekf";
   if (section == "global")
     return "global localization from one scan, --init global (branch and bound; refines with "
            "vdt-opt's settings)";
@@ -273,8 +309,8 @@ const char* section_doc(const std::string& section) {
 }
 
 const std::vector<std::string>& sections() {
-  static const std::vector<std::string> kSections{"vdt-opt",    "vdt-ekf",     "udt",   "pf",
-                                                  "active-ekf", "passive-ekf", "global"};
+  static const std::vector<std::string> kSections{
+      "vdt-opt", "vdt-ekf", "udt", "pf", "active-ekf", "passive-ekf", "global", "recovery"};
   return kSections;
 }
 
@@ -472,16 +508,16 @@ LocalizerSettings parse_localizer_config(const std::string& text, const std::str
   if (!root.IsMap()) {
     throw ConfigError(source + ":" + std::to_string(root.Mark().line + 1) +
                       ": expected a mapping of sections (vdt-opt, vdt-ekf, udt, pf, active-ekf, "
-                      "passive-ekf, global)");
+                      "passive-ekf, global, recovery)");
   }
   for (auto it = root.begin(); it != root.end(); ++it) {
     const std::string name = it->first.as<std::string>();
     bool known = false;
     for (const std::string& sec : sections()) known = known || sec == name;
     if (!known) {
-      throw ConfigError(source + ":" + std::to_string(it->first.Mark().line + 1) +
-                        ": unknown section '" + name +
-                        "' (known: vdt-opt, vdt-ekf, udt, pf, active-ekf, passive-ekf, global)");
+      throw ConfigError(
+          source + ":" + std::to_string(it->first.Mark().line + 1) + ": unknown section '" + name +
+          "' (known: vdt-opt, vdt-ekf, udt, pf, active-ekf, passive-ekf, global, recovery)");
     }
     Reader r(it->second, source, name);
     visit_section(r, name, s);
@@ -506,7 +542,8 @@ std::string localizer_settings_yaml(const LocalizerSettings& settings, const std
   out << "# vdtnav localizer settings: every key, [unit] and meaning (README, \"Settings "
          "file\").\n";
   for (const std::string& sec : sections()) {
-    if (!only.empty() && sec != only && sec != "global") continue;  // --init global: any method
+    // --init global and recovery: any method
+    if (!only.empty() && sec != only && sec != "global" && sec != "recovery") continue;
     out << sec << ":  # " << section_doc(sec) << "\n";
     Writer w(out, 2);
     visit_section(w, sec, s);

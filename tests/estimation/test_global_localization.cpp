@@ -170,6 +170,32 @@ TEST(GlobalLocalization, FindsRandomPosesOfTheFloorPlanAndAcceptsNoWrongOne) {
   EXPECT_GE(accepted, trials - 2);
 }
 
+TEST(GlobalLocalization, BetterThanAPoseFindsTheTruthOnlyWhenThePoseIsWrong) {
+  const auto& w = test::world();
+  const GlobalLocalizer loc(w.map, w.plan.occupancy);
+  std::mt19937 rng(9);
+  for (int t = 0; t < 4; ++t) {
+    const Pose2 truth = random_free_pose(w.plan.occupancy, w.map, rng, 0.3);
+    const ScanPoints scan = scan_in(w.plan.occupancy, truth, 0.02, rng);
+    const GlobalLocalizationResult full = loc.localize(scan);
+    // Right (within a cell and a degree): nothing explains the scan clearly better, and the
+    // search capped at its score prunes most of what the full one visits.
+    const Pose2 near(truth.x() + 0.02, truth.y() - 0.02, truth[2] + 0.01);
+    const GlobalLocalizationResult same = loc.localize_better(scan, near, 0.1);
+    EXPECT_EQ(same.result.status, LocalizationStatus::kRefused) << t;
+    EXPECT_LT(same.nodes, full.nodes) << t;
+    // Wrong (another free pose): the truth is found and accepted, as localize() finds it.
+    const Pose2 wrong = random_free_pose(w.plan.occupancy, w.map, rng, 0.3);
+    if ((wrong.head<2>() - truth.head<2>()).norm() < 2.0) continue;
+    const GlobalLocalizationResult better = loc.localize_better(scan, wrong, 0.1);
+    if (full.result.status != LocalizationStatus::kConverged) continue;  // an ambiguous place
+    ASSERT_EQ(better.result.status, LocalizationStatus::kConverged) << t;
+    EXPECT_LT((better.result.pose.head<2>() - truth.head<2>()).norm(), 0.3) << t;
+    EXPECT_LT(std::abs(wrap_angle(better.result.pose[2] - truth[2])), 0.1) << t;
+  }
+  EXPECT_THROW((void)loc.localize_better(ScanPoints{}, Pose2::Zero(), -0.1), ConfigError);
+}
+
 TEST(GlobalLocalization, SymmetricRoomIsRefusedAsAmbiguous) {
   // A 5 x 3 m empty rectangle (walls through cell centres 3 and 53, 3 and 33) in a margin:
   // every pose has its twin turned by pi about the centre (2.85, 1.85).

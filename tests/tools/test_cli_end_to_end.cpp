@@ -237,6 +237,61 @@ TEST(CliEndToEnd, MapLocalizeEvalRecoverTheSimulatedTrajectory) {
   EXPECT_TRUE(contains(read_all(d / "eval.txt"), "relation NEES (")) << read_all(d / "eval.txt");
 }
 
+TEST(CliEndToEnd, AStartFarFromTheTruthIsFoundLostAndRecovered) {
+  // The robot is not where --init says (a kidnapping before the first scan): --recover finds the
+  // scans unexplained, re-acquires by global localization and then tracks the truth; without it
+  // (the default for logs, or --no-recover) the scans are reported lost and never converged.
+  const Fixture& f = fixture();
+  const std::filesystem::path d = f.dir / "recover";
+  std::filesystem::create_directories(d);
+  ASSERT_EQ(run_cli("map --log " + (f.dir / "run.log").string() + " --resolution 0.05 --out " +
+                        (d / "map").string() + " --quiet",
+                    d / "map.txt"),
+            0)
+      << read_all(d / "map.txt");
+  Pose2 wrong = f.run.truth[0];
+  for (std::size_t k = 0; k < f.run.size(); ++k) {  // the scan pose farthest from the start
+    if ((f.run.truth[k].head<2>() - f.run.truth[0].head<2>()).norm() >
+        (wrong.head<2>() - f.run.truth[0].head<2>()).norm())
+      wrong = f.run.truth[k];
+  }
+  ASSERT_GT((wrong.head<2>() - f.run.truth[0].head<2>()).norm(), 5.0);
+  char init[128];
+  std::snprintf(init, sizeof init, "%.3f,%.3f,%.3f", wrong.x(), wrong.y(), wrong[2]);
+  const std::string common = "localize --map " + (d / "map.yaml").string() + " --log " +
+                             (f.dir / "run.log").string() + " --method vdt-opt --quiet --init " +
+                             init + " --init-sigma 0.05,0.05,0.02";
+  ASSERT_EQ(run_cli(common + " --recover --out " + (d / "rec.tum").string(), d / "rec.txt"), 0)
+      << read_all(d / "rec.txt");
+  const std::string rec_text = read_all(d / "rec.txt");
+  EXPECT_TRUE(contains(rec_text, "re-acquired after lost")) << rec_text;
+  const TumTrajectory rec = load_tum_trajectory((d / "rec.tum").string());
+  ASSERT_EQ(rec.poses.size(), f.run.size());
+  std::size_t first_right = rec.poses.size();
+  for (std::size_t k = 0; k < rec.poses.size(); ++k) {
+    const Pose2 p = pose2_from_pose3(rec.poses[k].pose);
+    const bool right = (p.head<2>() - f.run.truth[k].head<2>()).norm() < 0.3;
+    if (right && first_right == rec.poses.size()) first_right = k;
+    if (first_right < rec.poses.size()) {
+      EXPECT_TRUE(right) << "scan " << k << " after re-acquisition at " << first_right;
+    }
+  }
+  EXPECT_LE(first_right, 20U);  // a window of 5 scans, then one acquisition
+
+  ASSERT_EQ(run_cli(common + " --no-recover --out " + (d / "norec.tum").string() + " --cov " +
+                        (d / "norec.csv").string(),
+                    d / "norec.txt"),
+            0)
+      << read_all(d / "norec.txt");
+  const std::string norec_text = read_all(d / "norec.txt");
+  EXPECT_TRUE(contains(norec_text, "  lost  ")) << norec_text;
+  EXPECT_FALSE(contains(norec_text, "re-acquired")) << norec_text;
+  // --recover and --no-recover together: refused.
+  EXPECT_NE(
+      run_cli(common + " --recover --no-recover --out " + (d / "x.tum").string(), d / "both.txt"),
+      0);
+}
+
 TEST(CliEndToEnd, BadInputsFailWithAMessageNamingTheFile) {
   const Fixture& f = fixture();
   const std::filesystem::path d = f.dir;

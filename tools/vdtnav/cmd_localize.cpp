@@ -40,6 +40,7 @@ struct LocalizeArgs {
   bool skip_malformed = false;
   bool quiet = false;
   bool strict = false;
+  bool recover = false, no_recover = false;
 };
 
 void run_localize(const LocalizeArgs& a) {
@@ -47,6 +48,8 @@ void run_localize(const LocalizeArgs& a) {
   // built from scans (log_settings()), then the keys the --config file names.
   LocalizerSettings settings = log_settings();
   if (!a.config.empty()) settings = load_localizer_config(a.config, settings);
+  if (a.recover) settings.recovery.detect = settings.recovery.recover = true;
+  if (a.no_recover) settings.recovery.recover = false;
   if (a.print_config) {
     std::fputs(localizer_settings_yaml(settings, a.method).c_str(), stdout);
     return;
@@ -145,6 +148,8 @@ void run_localize(const LocalizeArgs& a) {
   std::vector<LaserScan> scans;
   double ms_sum = 0.0, ms_max = 0.0;
   std::size_t with_cov = 0;
+  int recovered = 0;  // re-acquisitions after a lost track
+  LocalizationStatus previous = LocalizationStatus::kConverged;
   const auto wall0 = std::chrono::steady_clock::now();
   {
     ProgressBar bar("[localize] " + a.method, idx.size(), a.quiet);
@@ -159,6 +164,10 @@ void run_localize(const LocalizeArgs& a) {
       ms_sum += ms;
       ms_max = std::max(ms_max, ms);
       ++status_count[r.status];
+      // A loss ends on a converged scan; a slide corrected by a check is converged with a search.
+      recovered += r.status == LocalizationStatus::kConverged &&
+                   (previous == LocalizationStatus::kLost || r.work.global_searches > 0);
+      previous = r.status;
       traj << tum_line(times[k], r.pose) << '\n';
       if (cov.is_open()) {  // one row per scan; nan where the method reports no covariance
         const Eigen::Matrix3d c =
@@ -179,10 +188,19 @@ void run_localize(const LocalizeArgs& a) {
   std::printf("%s: %zu scans processed in %.3f s wall (%.3f ms per scan mean, %.3f max)\n",
               a.method.c_str(), idx.size(), wall, ms_sum / static_cast<double>(idx.size()), ms_max);
   for (const auto& [s, n] : status_count) std::printf("  %-22s %d\n", to_string(s), n);
+  if (recovered > 0 || status_count.count(LocalizationStatus::kLost) > 0) {
+    if (settings.recovery.recover) {
+      std::printf("  re-acquired after lost   %d (global localization)\n", recovered);
+    } else {
+      std::printf("  (--no-recover: the lost scans were not localized again)\n");
+    }
+  }
   const int localized = status_count[LocalizationStatus::kConverged];
   std::printf("wrote %s", a.out.c_str());
   if (cov.is_open()) std::printf(", %s (%zu covariances)", a.cov.c_str(), with_cov);
-  if (cov.is_open() && with_cov == 0) std::printf(" — %s reports no covariance", a.method.c_str());
+  if (cov.is_open() && with_cov == 0 && localized > 0) {
+    std::printf(" — %s reports no covariance", a.method.c_str());
+  }
   std::printf("\n");
   if (!a.plot.empty()) {
     plot_trajectories(a.plot + "_trajectory.png", map.ros, {{a.method, estimate, false}},
@@ -249,6 +267,16 @@ void add_localize_command(CLI::App& app) {
   cmd->add_option("--max-range", args->max_range, "Readings at or beyond this are no-returns")
       ->capture_default_str();
   cmd->add_flag("--skip-malformed", args->skip_malformed, "Skip and count malformed log lines");
+  auto* recover = cmd->add_flag(
+      "--recover", args->recover,
+      "vdt-opt, vdt-ekf: when the scans stop being explained (status lost), re-acquire the pose "
+      "by global localization (settings section recovery:). Off by default here: on a map that "
+      "lacks parts of the building a resembling place can be accepted; use it when the map "
+      "covers the drive");
+  cmd->add_flag("--no-recover", args->no_recover,
+                "Report lost scans (status lost) but do not re-acquire (the default; overrides a "
+                "settings file's recovery.recover: true)")
+      ->excludes(recover);
   cmd->add_flag("--quiet", args->quiet, "No progress bar");
   cmd->add_flag("--strict", args->strict,
                 "Fail (exit 1) when fewer than 10 % of the scans localize, instead of warning");

@@ -89,6 +89,15 @@ class GlobalLocalizer {
   /// \brief Branch and bound.
   [[nodiscard]] GlobalLocalizationResult localize(const ScanPoints& scan) const;
 
+  /// \brief Branch and bound for a pose that explains the scan clearly better than `than`: only
+  /// leaves scoring below than's own score (at its cell and exact heading) less
+  /// margin * N tau^2 are searched, so that where `than` is as good as anything (a tracker that
+  /// is right) nearly every box is pruned at once. Status kRefused with no pose when there is
+  /// none; otherwise the refinement and acceptance of localize().
+  /// \throws ConfigError for a non-finite pose or a negative margin.
+  [[nodiscard]] GlobalLocalizationResult localize_better(const ScanPoints& scan, const Pose2& than,
+                                                         double margin) const;
+
   /// \brief LaMa's way: poses drawn uniformly over the free cells and headings, each scored as
   /// a leaf, until `seconds` of wall time (at least `min_samples`), then the same refinement and
   /// acceptance.
@@ -105,6 +114,9 @@ class GlobalLocalizer {
     int angle, cx, cy;
   };
   [[nodiscard]] Readings select_readings(const ScanPoints& scan) const;
+  /// localize() (than null) and localize_better().
+  [[nodiscard]] GlobalLocalizationResult search(const ScanPoints& scan, const Pose2* than,
+                                                double margin) const;
   [[nodiscard]] double angular_step(const Readings& r) const;
   /// Cell offsets of the readings at heading phi (grid axes).
   void offsets(const Readings& r, double phi, std::vector<Eigen::Vector2i>* out) const;

@@ -30,6 +30,9 @@ enum class LocalizationStatus {
   /// The solver converged, but the map does not explain the observations there (too small a
   /// fraction explained, or a jump the acceptance test refuses): the prediction is kept.
   kRefused,
+  /// The recent scans are not explained at the estimates (lost_detection.hpp): the robot is lost
+  /// (kidnapped, or a wrong match kept) until a new acquisition; the pose is the tracker's.
+  kLost,
 };
 
 /// \return a short name for a status ("converged", ...).
@@ -45,6 +48,8 @@ enum class LocalizationStatus {
       return "diverged";
     case LocalizationStatus::kRefused:
       return "refused";
+    case LocalizationStatus::kLost:
+      return "lost";
   }
   return "?";
 }
@@ -72,10 +77,14 @@ struct LocalizationResultT {
     int coarse_to_fine = 0;   ///< coarse-to-fine alignments (guess poorer than coarse_threshold)
     int window_searches = 0;  ///< window searches around the guess (scan poorly explained)
     int bridged = 0;          ///< scan-to-scan matches in a gap of the map
+    int global_searches = 0;  ///< global localizations (lost: re-acquisition attempts)
   } work;
   double final_cost = 0.0;
   int inliers = 0;  ///< beams used after gating
   int dropped = 0;  ///< beams dropped: invalid readings, outside the map, gated
+  /// Fraction of the observations the map explains at the pose (lost detection); < 0: not
+  /// measured by this localizer.
+  double explained = -1.0;
 };
 
 using LocalizationResult = LocalizationResultT<2>;
