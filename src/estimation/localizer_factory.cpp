@@ -29,13 +29,12 @@ LocalizerSettings log_settings() {
   // Lost detection on a map drawn from scans: people, doors and clutter make windows of right
   // poses fall by up to 0.3 below the track's baseline (Intel: 0.26-0.29 at 3 places in 910
   // scans), so lost is a larger fall, and smaller ones are not checked (a global search costs
-  // seconds on such scans). Re-acquisition is off: such a map often lacks parts of the building
-  // (the Intel study maps with the last third of the log), and there a place that resembles the
-  // robot's is accepted (Intel study: 0.030 m -> 1.65 m with it). `--recover` turns it on for a
-  // map that covers where the robot drives.
+  // seconds on such scans). Re-acquisition stays on: its candidates must explain a scan as the
+  // track did and be confirmed by the next one, which keeps the Intel study, whose map (the last
+  // third of the log) lacks places of the first two, at 0.030 m (1.65 m when any accepted
+  // acquisition was adopted).
   s.recovery.lost.drop = 0.35;
   s.recovery.check_drop = 0.0;
-  s.recovery.recover = false;
   return s;
 }
 

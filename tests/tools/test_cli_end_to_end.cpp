@@ -238,9 +238,9 @@ TEST(CliEndToEnd, MapLocalizeEvalRecoverTheSimulatedTrajectory) {
 }
 
 TEST(CliEndToEnd, AStartFarFromTheTruthIsFoundLostAndRecovered) {
-  // The robot is not where --init says (a kidnapping before the first scan): --recover finds the
-  // scans unexplained, re-acquires by global localization and then tracks the truth; without it
-  // (the default for logs, or --no-recover) the scans are reported lost and never converged.
+  // The robot is not where --init says (a kidnapping before the first scan): --recover (the
+  // default) finds the scans unexplained, re-acquires by global localization and then tracks the
+  // truth; --no-recover reports the scans lost and never claims a converged pose there.
   const Fixture& f = fixture();
   const std::filesystem::path d = f.dir / "recover";
   std::filesystem::create_directories(d);

@@ -270,12 +270,9 @@ void add_localize_command(CLI::App& app) {
   auto* recover = cmd->add_flag(
       "--recover", args->recover,
       "vdt-opt, vdt-ekf: when the scans stop being explained (status lost), re-acquire the pose "
-      "by global localization (settings section recovery:). Off by default here: on a map that "
-      "lacks parts of the building a resembling place can be accepted; use it when the map "
-      "covers the drive");
+      "by global localization (the default; settings section recovery:)");
   cmd->add_flag("--no-recover", args->no_recover,
-                "Report lost scans (status lost) but do not re-acquire (the default; overrides a "
-                "settings file's recovery.recover: true)")
+                "Report lost scans (status lost) but do not re-acquire them")
       ->excludes(recover);
   cmd->add_flag("--quiet", args->quiet, "No progress bar");
   cmd->add_flag("--strict", args->strict,

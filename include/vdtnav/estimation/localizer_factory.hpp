@@ -53,9 +53,9 @@ struct LocalizerSettings {
 /// Intel log 4.86 (mean), against 81 without. Lost detection: a window is lost 0.35 below the
 /// track's baseline (0.25 by default) and smaller falls are not checked (check_drop 0): right
 /// poses on such maps have windows 0.26-0.29 below theirs where people and doors block the view.
-/// Lost scans are reported, not re-acquired (recovery.recover false): a map drawn from part of a
-/// log lacks places, and a place resembling the robot's is then accepted (the Intel study's error
-/// goes from 0.030 m to 1.65 m); `vdtnav localize --recover` when the map covers the drive.
+/// Re-acquisition (recovery.recover) stays on: on the Intel study's map, which lacks places of
+/// the localized part, it changes nothing (0.030 m) because a candidate must explain the scan as
+/// the track did and be confirmed by the next scan.
 [[nodiscard]] LocalizerSettings log_settings();
 
 /// \return the method names make_localizer() knows, in table order.
