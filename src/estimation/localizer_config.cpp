@@ -379,6 +379,9 @@ class Reader {
   /// Any key of this mapping that no visit() named is a typo or a key of another version.
   void check_unknown() const {
     for (auto it = node_.begin(); it != node_.end(); ++it) {
+      // Fuzzing found a key that is itself a mapping or a list: as<string> threw past every
+      // catch of vdtnav::Error.
+      if (!it->first.IsScalar()) fail(it->first, "expected a key name (a plain word)");
       const std::string key = it->first.as<std::string>();
       if (used_.count(key) == 0) {
         std::string known;
@@ -511,6 +514,10 @@ LocalizerSettings parse_localizer_config(const std::string& text, const std::str
                       "passive-ekf, global, recovery)");
   }
   for (auto it = root.begin(); it != root.end(); ++it) {
+    if (!it->first.IsScalar()) {
+      throw ConfigError(source + ":" + std::to_string(it->first.Mark().line + 1) +
+                        ": expected a section name (a plain word), not a mapping or a list");
+    }
     const std::string name = it->first.as<std::string>();
     bool known = false;
     for (const std::string& sec : sections()) known = known || sec == name;
