@@ -8,6 +8,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <limits>
@@ -26,9 +27,19 @@ constexpr double kPi = 3.14159265358979323846;
 
 /// The whole file as bytes, gunzipped when it starts with the gzip magic 1f 8b.
 std::string read_text(const std::string& path) {
+  // A directory opens, and reading it throws std::ios_base::failure (found in load_ros_map).
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) {
+    throw IoError(path + ": is a directory, expected a CARMEN log");
+  }
   std::ifstream in(path, std::ios::binary);
   if (!in) throw IoError(path + ": cannot open CARMEN log: " + std::strerror(errno));
-  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::string bytes;
+  try {
+    bytes.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  } catch (const std::ios_base::failure& e) {
+    throw IoError(path + ": cannot read CARMEN log: " + e.what());
+  }
   if (in.bad()) throw IoError(path + ": cannot read CARMEN log");
   if (bytes.size() < 2 || static_cast<unsigned char>(bytes[0]) != 0x1f ||
       static_cast<unsigned char>(bytes[1]) != 0x8b) {

@@ -26,12 +26,20 @@ namespace {
 namespace fs = std::filesystem;
 
 std::vector<unsigned char> read_bytes(const std::string& path, const std::string& what) {
+  // Fuzzing found `image: /`: a directory opens, and reading it throws std::ios_base::failure
+  // from the stream buffer past every catch of vdtnav::Error.
+  std::error_code ec;
+  if (fs::is_directory(path, ec)) throw IoError(path + ": is a directory, expected the " + what);
   std::ifstream in(path, std::ios::binary);
   if (!in) throw IoError(path + ": cannot open " + what + ": " + std::strerror(errno));
-  std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)),
-                                   std::istreambuf_iterator<char>());
-  if (in.bad()) throw IoError(path + ": cannot read " + what);
-  return bytes;
+  try {
+    std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)),
+                                     std::istreambuf_iterator<char>());
+    if (in.bad()) throw IoError(path + ": cannot read " + what);
+    return bytes;
+  } catch (const std::ios_base::failure& e) {
+    throw IoError(path + ": cannot read " + what + ": " + e.what());
+  }
 }
 
 // ---------------------------------------------------------------- YAML

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "vdtnav/core/error.hpp"
+#include "vdtnav/io/carmen_log.hpp"
 #include "vdtnav/io/ros_map.hpp"
 
 namespace vdtnav {
@@ -90,6 +91,18 @@ TEST(FuzzRegressions, PngOfMoreCellsThanAMapMayHaveIsRefusedBeforeDecoding) {
   const std::string msg = error_of([&] { (void)load_ros_map(dir + "/map.yaml"); });
   EXPECT_NE(msg.find("map.png"), std::string::npos) << msg;
   EXPECT_NE(msg.find("20000 x 20000"), std::string::npos) << msg;
+}
+
+TEST(FuzzRegressions, AnImageThatIsADirectoryIsAnIoError) {
+  // fuzz_ros_map (10^6 runs by hand): `image: /` opened, and reading a directory threw
+  // std::ios_base::failure from the stream buffer. The same for a CARMEN log.
+  const std::string dir = tmp_dir();
+  fs::copy_file(fs::path(VDTNAV_FUZZ_REGRESSIONS) / "ros_map-image-is-a-directory.yaml",
+                fs::path(dir) / "map.yaml", fs::copy_options::overwrite_existing);
+  const std::string msg = error_of([&] { (void)load_ros_map(dir + "/map.yaml"); });
+  EXPECT_NE(msg.find("is a directory"), std::string::npos) << msg;
+  const std::string log = error_of([&] { (void)load_carmen_log(dir); });
+  EXPECT_NE(log.find("is a directory"), std::string::npos) << log;
 }
 
 }  // namespace
