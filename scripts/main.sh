@@ -28,7 +28,7 @@ echo "== [6/17] Uncertain VDT maps (thesis ch. 5): Fig. 5.2, Experiments 1 and 2
 "$bin/uncertain_map/vdtnav_uncertain_map" --out out/uncertain_map
 echo "== [7/17] Active localization with one rotating range beam (thesis ch. 4, generated floor plans)"
 "$bin/active_beam/vdtnav_active_beam" --out out/active_beam
-echo "== [8/17] Global localization from one scan with no prior: branch and bound vs random sampling (generated floor plan)"
+echo "== [8/17] Never lost: global localization from one scan (branch and bound vs random sampling) and the kidnapped robot (generated floor plan)"
 "$bin/kidnapped/vdtnav_kidnapped" --out out/kidnapped
 if [ -d "$data" ]; then
   echo "== [9/17] Active localization on the Willow Garage and fetch-office maps (real maps)"
@@ -59,7 +59,7 @@ if [ -d "$data" ]; then
     echo "== [16/17] Uncertain VDT maps on the Willow Garage corridor and the Intel lab (real map and log)"
     "$bin/uncertain_map/vdtnav_uncertain_map" --data "$data" --out out/uncertain_map_real
   fi
-  echo "== [17/17] Global localization from one scan: hospital section, fetch-office (simulated scans), Intel lab (real scans)"
+  echo "== [17/17] Never lost: global localization and the kidnapped robot on the hospital section, fetch-office (simulated scans) and the Intel lab (real scans and odometry)"
   "$bin/kidnapped/vdtnav_kidnapped" --data "$data" --out out/kidnapped_real
 else
   echo "== no data folder at '$data': skipping the real-data studies [9/17]..[17/17]"
