@@ -76,4 +76,18 @@ inline void shift_by_shared_map_errors(ScanPoints& scan, const Pose2& pose, doub
   }
 }
 
+/// A 5 x 3 m empty rectangle of 0.1 m cells (walls through cell centres 3 and 53, 3 and 33) in
+/// a margin: every pose has its twin turned by pi about the centre (2.85, 1.85), so global
+/// localization must refuse every scan in it as ambiguous.
+inline OccupancyGrid<2> symmetric_room() {
+  OccupancyGrid<2> g(Eigen::Vector2i(57, 37), GridFrame<2>(0.1, Eigen::Vector2d::Zero()), 0);
+  for (int y = 0; y < 37; ++y) {
+    for (int x = 0; x < 57; ++x) {
+      const bool in = x >= 3 && x <= 53 && y >= 3 && y <= 33;
+      g(Eigen::Vector2i(x, y)) = (in && (x == 3 || x == 53 || y == 3 || y == 33)) ? 1 : 0;
+    }
+  }
+  return g;
+}
+
 }  // namespace vdtnav::test

@@ -197,15 +197,7 @@ TEST(GlobalLocalization, BetterThanAPoseFindsTheTruthOnlyWhenThePoseIsWrong) {
 }
 
 TEST(GlobalLocalization, SymmetricRoomIsRefusedAsAmbiguous) {
-  // A 5 x 3 m empty rectangle (walls through cell centres 3 and 53, 3 and 33) in a margin:
-  // every pose has its twin turned by pi about the centre (2.85, 1.85).
-  OccupancyGrid<2> g(Eigen::Vector2i(57, 37), GridFrame<2>(0.1, Eigen::Vector2d::Zero()), 0);
-  for (int y = 0; y < 37; ++y) {
-    for (int x = 0; x < 57; ++x) {
-      const bool in = x >= 3 && x <= 53 && y >= 3 && y <= 33;
-      g(Eigen::Vector2i(x, y)) = (in && (x == 3 || x == 53 || y == 3 || y == 33)) ? 1 : 0;
-    }
-  }
+  const OccupancyGrid<2> g = test::symmetric_room();  // every pose has a twin: ambiguous
   const VdtMap2 map = VdtMap2::build(g);
   const GlobalLocalizer loc(map, g);
   std::mt19937 rng(2);

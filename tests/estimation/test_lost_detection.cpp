@@ -241,15 +241,7 @@ ScanPoints scan_from(const OccupancyGrid<2>& grid, const Pose2& pose) {
 }
 
 TEST(RecoveringLocalizer, InASymmetricRoomTheLossIsKeptRatherThanATwinGuessed) {
-  // A 5 x 3 m empty rectangle: every pose has a twin turned by pi about the centre, so global
-  // localization refuses every scan as ambiguous.
-  OccupancyGrid<2> g(Eigen::Vector2i(57, 37), GridFrame<2>(0.1, Eigen::Vector2d::Zero()), 0);
-  for (int y = 0; y < 37; ++y) {
-    for (int x = 0; x < 57; ++x) {
-      const bool in = x >= 3 && x <= 53 && y >= 3 && y <= 33;
-      g(Eigen::Vector2i(x, y)) = (in && (x == 3 || x == 53 || y == 3 || y == 33)) ? 1 : 0;
-    }
-  }
+  const OccupancyGrid<2> g = test::symmetric_room();  // every pose has a twin: ambiguous
   const VdtMap2 map = VdtMap2::build(g);
   RecoveringLocalizer loc(std::make_unique<StuckTracker>(), map, g, GlobalLocalizationOptions{});
   const Pose2 start(1.55, 1.25, 0.4), carried(4.05, 2.35, -2.0);
