@@ -72,10 +72,7 @@ struct Tally {
   }
 };
 
-bool right(const Pose2& a, const Pose2& truth) {
-  return (a.head<2>() - truth.head<2>()).norm() <= 0.3 &&
-         std::abs(wrap_angle(a[2] - truth[2])) <= 0.1;
-}
+using kidnap::right;  // within 0.3 m and 0.1 rad (kidnapping.hpp)
 
 Outcome judge(const GlobalLocalizationResult& r, const Pose2& truth) {
   if (r.result.status == LocalizationStatus::kConverged) {

@@ -42,8 +42,8 @@ void RecoveringLocalizer::begin_loss() {
   candidate_ = false;
 }
 
-double RecoveringLocalizer::candidate_level() const {
-  return std::max(global_.options().accept_fraction, before_loss_ - options_.lost.drop);
+double RecoveringLocalizer::acceptable(double baseline) const {
+  return std::max(global_.options().accept_fraction, baseline - options_.lost.drop);
 }
 
 LocalizationResult RecoveringLocalizer::update(const OdometryStep& odometry,
@@ -57,7 +57,7 @@ LocalizationResult RecoveringLocalizer::update(const OdometryStep& odometry,
     // The tracker was restarted at the candidate on the previous scan and has just tracked this
     // one from it: confirmed when it explains this scan at the level the candidate had to.
     candidate_ = false;
-    if (r.status == LocalizationStatus::kConverged && r.explained >= candidate_level()) {
+    if (r.status == LocalizationStatus::kConverged && r.explained >= acceptable(before_loss_)) {
       ++recoveries_;
       detector_.reset();
       lost_ = false;
@@ -82,8 +82,7 @@ LocalizationResult RecoveringLocalizer::update(const OdometryStep& odometry,
       last_acquisition_ = global_.localize_better(observations, r.pose, options_.check_margin);
       r.work.global_searches += 1;
       if (last_acquisition_.result.status == LocalizationStatus::kConverged &&
-          last_acquisition_.explained >=
-              std::max(global_.options().accept_fraction, b - options_.lost.drop)) {
+          last_acquisition_.explained >= acceptable(b)) {
         ++recoveries_;
         return adopt(r);
       }
@@ -99,7 +98,7 @@ LocalizationResult RecoveringLocalizer::update(const OdometryStep& odometry,
   last_acquisition_ = global_.localize(observations);
   r.work.global_searches += 1;
   const GlobalLocalizationResult& g = last_acquisition_;
-  if (g.result.status != LocalizationStatus::kConverged || g.explained < candidate_level()) {
+  if (g.result.status != LocalizationStatus::kConverged || g.explained < acceptable(before_loss_)) {
     return r;
   }
   // A candidate: the tracker restarts there; the next informative scan confirms it or not.

@@ -90,13 +90,12 @@ class RecoveringLocalizer final : public Localizer2D {
  private:
   /// Restarts the tracker at the acquisition last_acquisition_ and ends the loss; its result.
   [[nodiscard]] LocalizationResult adopt(const LocalizationResult& tracked);
-  /// The level a candidate must explain: the track's, less lost.drop (at least global's accept).
-  [[nodiscard]] double candidate_level() const;
+  /// The level an acquisition must explain: the track's baseline less lost.drop (at least
+  /// global's accept_fraction).
+  [[nodiscard]] double acceptable(double baseline) const;
   /// A loss begins: the schedule of attempts restarts.
   void begin_loss();
 
- public:
- private:
   std::unique_ptr<Localizer2D> tracker_;
   VdtSensorModel model_;  // the explained fraction at the tracker's estimate
   GlobalLocalizer global_;
