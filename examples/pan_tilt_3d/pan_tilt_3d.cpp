@@ -125,16 +125,8 @@ ObservationSet3 every_kth_reading(const sim::PointLaserSweep& sweep,
   kept.reserve(sweep.readings.size() / static_cast<std::size_t>(k) + 1);
   for (std::size_t i = 0; i < sweep.readings.size(); i += static_cast<std::size_t>(k))
     kept.push_back(sweep.readings[i]);
-  const PointLaserObservations o = point_laser_observations(kept, sim.calibration, sim.spec);
-  ObservationSet3 set;
-  set.points = o.points;
-  set.directions = o.d_point_d_range;
-  set.ranges = o.ranges;
-  set.beam.reserve(o.reading.size());
-  for (std::size_t r : o.reading) set.beam.push_back(r * static_cast<std::size_t>(k));
-  set.sigma_range = o.sigma_range;
-  set.dropped_not_finite = o.dropped_not_finite;
-  set.dropped_out_of_range = o.dropped_out_of_range;
+  ObservationSet3 set = point_laser_observations(kept, sim.calibration, sim.spec);
+  for (std::size_t& b : set.beam) b *= static_cast<std::size_t>(k);  // index in the whole sweep
   return set;
 }
 

@@ -114,7 +114,7 @@ TEST(PanTiltUnit, DerivativesMatchCentralDifferences) {
   }
 }
 
-TEST(PointLaserObservations, DropsAndCountsInvalidReadings) {
+TEST(ObservationSet3, DropsAndCountsInvalidReadings) {
   constexpr double kInf = std::numeric_limits<double>::infinity();
   constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
   const PanTiltCalibration c = PanTiltCalibration::turtlebot_example();
@@ -130,26 +130,26 @@ TEST(PointLaserObservations, DropsAndCountsInvalidReadings) {
       {0.1, 0.2, -1.0, 0.0},   // negative
       {-2.0, -0.3, 39.9, 0.0}  // kept (reading 9)
   };
-  const PointLaserObservations obs = point_laser_observations(readings, c);
+  const ObservationSet3 obs = point_laser_observations(readings, c);
   EXPECT_EQ(obs.size(), 3u);
   EXPECT_EQ(obs.dropped_not_finite, 4u);
   EXPECT_EQ(obs.dropped_out_of_range, 3u);
-  EXPECT_EQ(obs.reading, (std::vector<std::size_t>{0, 6, 9}));
+  EXPECT_EQ(obs.beam, (std::vector<std::size_t>{0, 6, 9}));
   EXPECT_EQ(obs.sigma_range, 0.025);
-  ASSERT_EQ(obs.d_point_d_range.size(), 3u);
+  ASSERT_EQ(obs.directions.size(), 3u);
   ASSERT_EQ(obs.ranges.size(), 3u);
   for (std::size_t k = 0; k < obs.size(); ++k) {
-    const PanTiltReading& z = readings[obs.reading[k]];
+    const PanTiltReading& z = readings[obs.beam[k]];
     EXPECT_EQ(obs.ranges[k], z.range);
     EXPECT_LT((obs.points[k] - chain_point(c, z.pan, z.tilt, z.range)).norm(), 1e-12 * z.range);
-    EXPECT_LT((obs.d_point_d_range[k] - pan_tilt_point(c, z).d_range).norm(), 1e-15);
+    EXPECT_LT((obs.directions[k] - pan_tilt_point(c, z).d_range).norm(), 1e-15);
   }
   PointLaserSpec narrow;
   narrow.range_min = 1.0;
   narrow.range_max = 10.0;
   narrow.sigma_range = 0.1;
-  const PointLaserObservations n = point_laser_observations(readings, c, narrow);
-  EXPECT_EQ(n.reading, (std::vector<std::size_t>{0}));
+  const ObservationSet3 n = point_laser_observations(readings, c, narrow);
+  EXPECT_EQ(n.beam, (std::vector<std::size_t>{0}));
   EXPECT_EQ(n.dropped_out_of_range, 5u);
   EXPECT_EQ(n.sigma_range, 0.1);
 }

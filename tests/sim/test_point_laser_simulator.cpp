@@ -231,7 +231,7 @@ TEST(PointLaserSimulator, NoReturnReadsInfinityAndIsDropped) {
   }
   EXPECT_GT(infinite, 1000u);
   EXPECT_LT(infinite, sweep.readings.size());
-  const PointLaserObservations obs = point_laser_observations(sweep.readings, o.calibration);
+  const ObservationSet3 obs = point_laser_observations(sweep.readings, o.calibration);
   EXPECT_EQ(obs.dropped_not_finite, infinite);
   EXPECT_EQ(obs.dropped_out_of_range, 0u);
   EXPECT_EQ(obs.size() + infinite, sweep.readings.size());
@@ -254,7 +254,7 @@ TEST(PointLaserSimulator, ObservationsLieOnTheRoomSurfaces) {
   const Pose3 robot = tilted_robot(5.2, 3.7);
   const PointLaserSimOptions o = noise_free();
   const PointLaserSweep sweep = simulate_point_laser_sweep(room.grid, robot, o, 1);
-  const PointLaserObservations obs = point_laser_observations(sweep.readings, o.calibration);
+  const ObservationSet3 obs = point_laser_observations(sweep.readings, o.calibration);
   EXPECT_EQ(obs.size(), 5700u);  // a closed room: everything returns
   EXPECT_EQ(obs.sigma_range, 0.025);
   for (std::size_t k = 0; k < obs.size(); ++k) {
@@ -263,9 +263,9 @@ TEST(PointLaserSimulator, ObservationsLieOnTheRoomSurfaces) {
         std::min({std::abs(p.x()), std::abs(p.x() - 8.0), std::abs(p.y()), std::abs(p.y() - 6.0),
                   std::abs(p.z()), std::abs(p.z() - 3.0)});
     EXPECT_LT(to_plane, 1e-9);
-    const PanTiltReading& z = sweep.readings[obs.reading[k]];
+    const PanTiltReading& z = sweep.readings[obs.beam[k]];
     const Eigen::Isometry3d laser = laser_in_world(robot, o.calibration, z.pan, z.tilt);
-    EXPECT_LT((robot.linear() * obs.d_point_d_range[k] - laser.linear().col(0)).norm(), 1e-12);
+    EXPECT_LT((robot.linear() * obs.directions[k] - laser.linear().col(0)).norm(), 1e-12);
   }
 }
 

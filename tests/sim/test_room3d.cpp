@@ -217,7 +217,7 @@ TEST(UnevenFloorPoses, DefaultSweepsInTheDefaultRoomReturnAlmostEverywhere) {
   ASSERT_EQ(sweeps.size(), 3u);
   for (const auto& s : sweeps) {
     ASSERT_EQ(s.readings.size(), 5700u);
-    const PointLaserObservations obs = point_laser_observations(s.readings, o.calibration);
+    const ObservationSet3 obs = point_laser_observations(s.readings, o.calibration);
     EXPECT_EQ(obs.dropped_not_finite, 0u);  // a closed room: every beam returns
     EXPECT_GT(obs.size(), 5600u);
   }

@@ -300,7 +300,7 @@ TEST(PointCloudMapErrors, BadFilesNameTheFile) {
                          "WIDTH 1\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS 1\nDATA ascii\n1 2\n";
   expect_error_naming<FormatError>(load(no_z), no_z, "no z field");
 
-  const std::string wrong_ext = tmp_path("cloud.xyz");
+  const std::string wrong_ext = tmp_path("cloud.las");
   std::ofstream(wrong_ext) << "1 2 3\n";
   expect_error_naming<FormatError>(load(wrong_ext), wrong_ext, "unknown extension");
 }

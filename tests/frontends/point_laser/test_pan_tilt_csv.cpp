@@ -100,7 +100,7 @@ TEST(PanTiltCsv, RoundTripsASimulatedSweepExactly) {
     // Through the file or directly: the same observation set.
     const auto direct = point_laser_observations(sweep.readings, o.calibration);
     const auto via_csv = point_laser_observations(csv.readings, o.calibration);
-    EXPECT_EQ(via_csv.reading, direct.reading);
+    EXPECT_EQ(via_csv.beam, direct.beam);
     EXPECT_TRUE(via_csv.points == direct.points);
     EXPECT_EQ(via_csv.dropped_not_finite, inf);
   }

@@ -66,15 +66,15 @@ pcl::PointCloud<pcl::PointXYZ> cloud_of(const std::vector<PanTiltReading>& rs,
   return cloud;
 }
 
-void expect_same(const PointLaserObservations& a, const PointLaserObservations& b, double tol) {
+void expect_same(const ObservationSet3& a, const ObservationSet3& b, double tol) {
   ASSERT_EQ(a.size(), b.size());
-  EXPECT_EQ(a.reading, b.reading);
+  EXPECT_EQ(a.beam, b.beam);
   EXPECT_EQ(a.dropped_not_finite, b.dropped_not_finite);
   EXPECT_EQ(a.dropped_out_of_range, b.dropped_out_of_range);
   EXPECT_EQ(a.sigma_range, b.sigma_range);
   for (std::size_t k = 0; k < a.size(); ++k) {
     EXPECT_LT((a.points[k] - b.points[k]).norm(), tol) << k;
-    EXPECT_LT((a.d_point_d_range[k] - b.d_point_d_range[k]).norm(), tol) << k;
+    EXPECT_LT((a.directions[k] - b.directions[k]).norm(), tol) << k;
     EXPECT_NEAR(a.ranges[k], b.ranges[k], tol) << k;
   }
 }
@@ -82,7 +82,7 @@ void expect_same(const PointLaserObservations& a, const PointLaserObservations& 
 TEST(PointLaserPcl, CloudGivesTheObservationsOfTheReadings) {
   const PanTiltCalibration c = fixed_origin_unit();
   const auto rs = readings();
-  const PointLaserObservations direct = point_laser_observations(rs, c);
+  const ObservationSet3 direct = point_laser_observations(rs, c);
   EXPECT_EQ(direct.size(), rs.size() - 4);
   EXPECT_EQ(direct.dropped_not_finite, 2u);
   EXPECT_EQ(direct.dropped_out_of_range, 2u);
@@ -95,18 +95,18 @@ TEST(PointLaserPcl, BeamsStartAtTheViewpoint) {
   cloud.push_back(pcl::PointXYZ(3.0f, 4.0f, 0.0f));
   cloud.push_back(pcl::PointXYZ(0.0f, 0.0f, 0.0f));  // at the sensor: range 0, dropped
   const Pose3 sensor = pose3_from_xyz_rpy(1.0, 2.0, 0.5, 0.0, 0.0, 3.14159265358979323846 / 2);
-  const PointLaserObservations at_origin = observations_from_cloud(cloud, sensor);
+  const ObservationSet3 at_origin = observations_from_cloud(cloud, sensor);
   ASSERT_EQ(at_origin.size(), 1u);
   EXPECT_EQ(at_origin.dropped_out_of_range, 1u);
   EXPECT_NEAR(at_origin.ranges[0], 5.0, 1e-12);
   // Yaw 90 deg: sensor x is robot y, sensor y is robot -x.
   EXPECT_LT((at_origin.points[0] - Eigen::Vector3d(1.0 - 4.0, 2.0 + 3.0, 0.5)).norm(), 1e-12);
-  EXPECT_LT((at_origin.d_point_d_range[0] - Eigen::Vector3d(-0.8, 0.6, 0.0)).norm(), 1e-12);
+  EXPECT_LT((at_origin.directions[0] - Eigen::Vector3d(-0.8, 0.6, 0.0)).norm(), 1e-12);
   cloud.sensor_origin_ = Eigen::Vector4f(3.0f, 0.0f, 0.0f, 0.0f);
-  const PointLaserObservations shifted = observations_from_cloud(cloud, sensor);
+  const ObservationSet3 shifted = observations_from_cloud(cloud, sensor);
   ASSERT_EQ(shifted.size(), 2u);
   EXPECT_NEAR(shifted.ranges[0], 4.0, 1e-12);
-  EXPECT_LT((shifted.d_point_d_range[0] - Eigen::Vector3d(-1.0, 0.0, 0.0)).norm(), 1e-12);
+  EXPECT_LT((shifted.directions[0] - Eigen::Vector3d(-1.0, 0.0, 0.0)).norm(), 1e-12);
   EXPECT_NEAR(shifted.ranges[1], 3.0, 1e-12);
 }
 
@@ -131,7 +131,7 @@ TEST(PointLaserPcl, PcdFileReadsBackToTheSameObservations) {
       out << line;
     }
   }
-  const PointLaserObservations from_file = read_point_laser_pcd(path, c.mount);
+  const ObservationSet3 from_file = read_point_laser_pcd(path, c.mount);
   expect_same(from_file, observations_from_cloud(cloud, c.mount), 0.0 + 1e-15);
   expect_same(from_file, point_laser_observations(readings(), c), 1e-5);
 
@@ -158,7 +158,7 @@ TEST(PointLaserPcl, MissingOrMalformedPcdThrows) {
     ADD_FAILURE() << "no FormatError";
   } catch (const FormatError& e) {
     EXPECT_EQ(std::string(e.what()),
-              no_z + ": expected a PCD point cloud with x, y and z fields, field 'z' is missing");
+              no_z + ": the cloud has no 'z' field; expected x, y, z coordinates");
   }
 }
 

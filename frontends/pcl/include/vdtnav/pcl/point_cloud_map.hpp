@@ -39,9 +39,9 @@ struct PointCloudOccupancy {
 
 /// \brief Reads a point cloud file and voxelizes it.
 ///
-/// The format follows the extension (case-insensitive): `.pcd` (ASCII, binary or
-/// binary_compressed) or `.ply` (vertices; faces are ignored). The cloud needs float32 or float64
-/// fields x, y, z; other fields are ignored. Points with a NaN or infinite coordinate are dropped
+/// The formats are read_point_cloud()'s (point_cloud_file.hpp): PCD, PLY, legacy ASCII VTK and
+/// text x y z files, by the extension. The cloud needs float32 or float64 fields x, y, z; other
+/// fields are ignored. Points with a NaN or infinite coordinate are dropped
 /// and counted in `num_dropped`.
 /// \throws ConfigError (message starts with the file name) when an option is out of its domain or
 ///         the grid would have 2^31 voxels or more.
