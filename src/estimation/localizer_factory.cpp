@@ -38,6 +38,18 @@ LocalizerSettings log_settings() {
   return s;
 }
 
+LocalizerSettings cloud_settings() {
+  LocalizerSettings s;
+  VdtOptimizerOptions& o = s.vdt_opt;
+  o.loss = RobustLoss::kCauchy;  // what one scan's map lacks or misplaces: cars, vegetation
+  o.loss_scale = 0.05;
+  o.max_iterations = 50;  // the Cauchy IRLS passes need more than the 25 of an exact map
+  o.variance_factor = true;
+  o.sensor.map_correlation_length = 1.0;
+  o.sensor.map_pose_sigma = -1.0;
+  return s;
+}
+
 std::unique_ptr<Localizer2D> make_localizer(const std::string& method, const VdtMap2& vdt,
                                             const OccupancyGrid<2>& occupancy,
                                             const LocalizerSettings& settings) {

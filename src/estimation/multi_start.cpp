@@ -86,6 +86,35 @@ LocalizationResult3 solve_multi_start(const VdtOptimizer3& optimizer,
       (void)try_start(oplus(usable(best) ? best.pose : guess, delta));
     }
   }
+  if (o.attitude_grid > 0 && !good_enough(best)) {
+    // Attitude grid, screened on a subsample: solve there from each attitude, keep the best few
+    // by their subsample score, solve those with every reading (try_start keeps the best overall).
+    const std::size_t step = std::max<std::size_t>(1, observations.size() / o.screen_readings);
+    const ObservationSet<3> sub = observations.subsampled(step);
+    std::vector<std::pair<double, Pose3>> screened;
+    const int n = o.attitude_grid;
+    for (int i = four_dof ? 0 : -n; i <= (four_dof ? 0 : n); ++i) {
+      for (int j = four_dof ? 0 : -n; j <= (four_dof ? 0 : n); ++j) {
+        for (int k = -n; k <= n; ++k) {
+          if (i == 0 && j == 0 && k == 0) continue;
+          Vector6d delta = Vector6d::Zero();
+          delta.tail<3>() = o.attitude_grid_step * Eigen::Vector3d(i, j, k);
+          const LocalizationResult3 r = optimizer.solve(sub, oplus(guess, delta));
+          iterations += r.iterations;
+          if (!usable(r)) continue;
+          screened.emplace_back(truncated_vcd(model, sub, r.pose, o.truncation), r.pose);
+        }
+      }
+    }
+    const std::size_t keep = std::min<std::size_t>(
+        screened.size(), static_cast<std::size_t>(std::max(o.screen_keep, 0)));
+    std::partial_sort(screened.begin(), screened.begin() + static_cast<std::ptrdiff_t>(keep),
+                      screened.end(),
+                      [](const auto& a, const auto& b) { return a.first < b.first; });
+    for (std::size_t c = 0; c < keep; ++c) {
+      if (try_start(screened[c].second) && good_enough(best)) break;
+    }
+  }
   best.iterations = iterations;
   return best;
 }

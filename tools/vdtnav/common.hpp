@@ -62,5 +62,9 @@ void add_map_command(CLI::App& app);
 void add_localize_command(CLI::App& app);
 void add_eval_command(CLI::App& app);
 void add_join_odometry_command(CLI::App& app);
+#ifdef VDTNAV_CLI_3D
+void add_map3d_command(CLI::App& app);
+void add_localize3d_command(CLI::App& app);
+#endif
 
 }  // namespace vdtnav::tools

@@ -8,6 +8,10 @@
 //   vdtnav eval      --traj TRAJ.tum (--relations REL | --reference REF.tum) [--cov COV.csv]
 //                    [--max-gap S] [--json]
 //   vdtnav join-odometry  (the Intel lab converter; see `vdtnav join-odometry --help`)
+//   vdtnav map3d      --map CLOUD|OCTREE --out MAP.vdt [--resolution R] [--crop BOX]
+//   vdtnav localize3d --map MAP --scan SCAN... | --scans DIR [--init x,y,z,r,p,y | --init-matrix F]
+//                     [--dof 6|4] [--voxel V] [--out YAML|DIR] [--multi-start] [--config F]
+//   (map3d and localize3d when the point cloud front ends were built)
 #include <CLI/CLI.hpp>
 
 #include <cstdio>
@@ -23,6 +27,10 @@ int main(int argc, char** argv) {
   vdtnav::tools::add_localize_command(app);
   vdtnav::tools::add_eval_command(app);
   vdtnav::tools::add_join_odometry_command(app);
+#ifdef VDTNAV_CLI_3D
+  vdtnav::tools::add_map3d_command(app);
+  vdtnav::tools::add_localize3d_command(app);
+#endif
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -10,8 +10,9 @@
 /// perturbation (x, y, z, and roll, pitch, yaw; in the 4-DOF mode x, y, z, yaw); each solution is
 /// scored by the truncated VCD  sum_i min(|d_i|^2, tau^2)  (unexplained readings at tau^2), the
 /// lowest wins, and the search stops as soon as a solution explains accept_fraction of the
-/// readings (for small sets, all starts are tried, then random hops around the best). A solve that
-/// stops at its iteration limit is continued once from where it stopped.
+/// readings (for small sets, all starts are tried, then random hops around the best; then, for a
+/// guess still not good enough, a grid of attitudes around it, screened on a subsample). A solve
+/// that stops at its iteration limit is continued once from where it stopped.
 
 #include "vdtnav/estimation/vdt_optimizer.hpp"
 
@@ -35,6 +36,16 @@ struct MultiStartOptions {
   /// of the solution found).
   int hops = 24;
   unsigned hop_seed = 1;
+  /// Attitude grid, the last stage, for guesses off by more than the axis starts reach (a scan
+  /// registered from an identity guess 10-15 degrees off, as libpointmatcher's car pair): the
+  /// attitudes Exp(step (i, j, k)) R_guess, i, j, k in [-n, n] (yaw only in the 4-DOF mode), at the
+  /// guess's position, each solved on a subsample of screen_readings readings and scored there;
+  /// the screen_keep best are solved with every reading. Runs only while no solution explains
+  /// accept_fraction. 0: off (the default; `vdtnav localize3d --multi-start` uses 2).
+  int attitude_grid = 0;
+  double attitude_grid_step = 0.1;  ///< radians (n = 2: +-0.2 rad, 11.5 degrees, per axis)
+  std::size_t screen_readings = 1000;
+  int screen_keep = 3;
 };
 
 /// \return the fraction of the readings whose disparity at `pose` is an inlier below `distance`.

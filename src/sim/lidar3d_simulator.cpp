@@ -1,0 +1,59 @@
+#include "vdtnav/sim/lidar3d_simulator.hpp"
+
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+#include "vdtnav/core/error.hpp"
+
+namespace vdtnav::sim {
+
+int Lidar3dSpec::rays_per_ring() const {
+  return static_cast<int>(std::lround(2.0 * 3.14159265358979323846 / azimuth_step));
+}
+
+Lidar3dScan simulate_lidar3d_scan(const OccupancyGrid<3>& map, const Pose3& sensor_in_world,
+                                  const Lidar3dSpec& spec, std::mt19937& rng) {
+  std::ostringstream bad;
+  if (spec.rings < 1)
+    bad << "rings must be >= 1, got " << spec.rings;
+  else if (!(spec.max_elevation >= spec.min_elevation && std::abs(spec.min_elevation) < 1.6 &&
+             std::abs(spec.max_elevation) < 1.6))
+    bad << "elevations must satisfy -pi/2 < min <= max < pi/2";
+  else if (!(spec.azimuth_step > 1e-4 && spec.azimuth_step <= 3.15))
+    bad << "azimuth_step must be in (1e-4, pi] rad, got " << spec.azimuth_step;
+  else if (!(spec.sigma_range >= 0.0 && std::isfinite(spec.sigma_range)))
+    bad << "sigma_range must be finite and >= 0";
+  else if (!(spec.range_min >= 0.0 && spec.range_max > spec.range_min))
+    bad << "ranges must satisfy 0 <= range_min < range_max";
+  if (!bad.str().empty()) throw ConfigError("simulate_lidar3d_scan: " + bad.str());
+
+  const int n = spec.rays_per_ring();
+  Lidar3dScan scan;
+  scan.points.reserve(static_cast<std::size_t>(spec.rings) * static_cast<std::size_t>(n));
+  std::normal_distribution<double> noise(0.0, 1.0);
+  const Eigen::Matrix3d& r = sensor_in_world.linear();
+  const Eigen::Vector3d origin = sensor_in_world.translation();
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  for (int k = 0; k < spec.rings; ++k) {
+    const double e =
+        spec.rings == 1
+            ? spec.min_elevation
+            : spec.min_elevation + (spec.max_elevation - spec.min_elevation) * k / (spec.rings - 1);
+    for (int j = 0; j < n; ++j) {
+      const double a = j * spec.azimuth_step;
+      const Eigen::Vector3d u(std::cos(e) * std::cos(a), std::cos(e) * std::sin(a), std::sin(e));
+      const double exact = cast_ray<3>(map, origin, r * u, spec.range_max, spec.surface);
+      const double range = exact + spec.sigma_range * noise(rng);  // the draw in every case
+      if (!std::isfinite(exact) || range < spec.range_min || range >= spec.range_max) {
+        scan.points.emplace_back(nan, nan, nan);
+        continue;
+      }
+      scan.points.push_back(range * u);
+      ++scan.returns;
+    }
+  }
+  return scan;
+}
+
+}  // namespace vdtnav::sim

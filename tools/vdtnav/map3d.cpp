@@ -1,0 +1,120 @@
+#include "map3d.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+
+#include "vdtnav/core/error.hpp"
+#include "vdtnav/io/vdt_map_file.hpp"
+#include "vdtnav/octomap/octree_map.hpp"
+#include "vdtnav/pcl/point_cloud_conversion.hpp"
+#include "vdtnav/pcl/point_cloud_file.hpp"
+
+namespace vdtnav::tools {
+namespace {
+
+std::string lower_extension(const std::string& path) {
+  const std::size_t dot = path.find_last_of('.');
+  const std::size_t slash = path.find_last_of('/');
+  if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return {};
+  std::string ext = path.substr(dot);
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return ext;
+}
+
+void say_grid(const OccupancyGrid<3>& g, bool quiet) {
+  if (quiet) return;
+  const double voxels = static_cast<double>(g.num_cells());
+  std::fprintf(stderr,
+               "[map3d] dense grid %d x %d x %d voxels of %.3f m (%.1f M voxels, ~%.0f MB as a "
+               "VDT map)\n",
+               g.size().x(), g.size().y(), g.size().z(), g.resolution(), voxels * 1e-6,
+               voxels * 16.0 * 1e-6);
+}
+
+}  // namespace
+
+CropBox parse_crop(const std::string& text, const std::string& what) {
+  CropBox box;
+  double v[6];
+  std::size_t begin = 0;
+  for (int k = 0; k < 6; ++k) {
+    const std::size_t comma = text.find(',', begin);
+    const std::string field =
+        text.substr(begin, comma == std::string::npos ? comma : comma - begin);
+    char* end = nullptr;
+    v[k] = std::strtod(field.c_str(), &end);
+    if (field.empty() || *end != '\0' || !std::isfinite(v[k]) ||
+        ((k < 5) != (comma != std::string::npos))) {
+      throw ConfigError(what + ": expected xmin,ymin,zmin,xmax,ymax,zmax (metres), got '" + text +
+                        "'");
+    }
+    begin = comma + 1;
+  }
+  box.min = Eigen::Vector3d(v[0], v[1], v[2]);
+  box.max = Eigen::Vector3d(v[3], v[4], v[5]);
+  if (!(box.max.array() > box.min.array()).all())
+    throw ConfigError(what + ": expected max > min on every axis, got '" + text + "'");
+  return box;
+}
+
+Map3d load_map3d(const std::string& path, const Map3dOptions& options) {
+  if (!(std::isfinite(options.resolution) && options.resolution >= 0.0))
+    throw ConfigError("--resolution must be finite and >= 0 (0: the source's default)");
+  if (!(std::isfinite(options.margin) && options.margin >= 0.0))
+    throw ConfigError("--margin must be finite and >= 0");
+  const auto start = std::chrono::steady_clock::now();
+  const std::string ext = lower_extension(path);
+  Map3d out;
+  if (ext == ".vdt") {
+    if (options.crop) throw ConfigError(path + ": --crop applies to point clouds, not a .vdt map");
+    out.vdt = load_vdt_map<3>(path);
+    out.source = "vdt map file";
+    if (options.resolution > 0.0 && std::abs(options.resolution - out.vdt.resolution()) > 1e-9) {
+      throw ConfigError(path + ": the saved map has resolution " +
+                        std::to_string(out.vdt.resolution()) + " m, not the --resolution " +
+                        std::to_string(options.resolution) + " asked for (build it again)");
+    }
+  } else if (ext == ".bt" || ext == ".ot") {
+    if (options.crop) throw ConfigError(path + ": --crop applies to point clouds, not an octree");
+    OctreeOccupancyOptions o;
+    o.resolution = options.resolution;
+    o.margin = options.margin;
+    const OctreeOccupancy occ = load_octree_occupancy(path, o);
+    say_grid(occ.occupancy, options.quiet);
+    out.vdt = VdtMap3::build(occ.occupancy);
+    out.source = "octree";
+  } else {
+    pcl::PointCloud<pcl::PointXYZ> cloud = read_point_cloud(path);
+    const std::size_t read = cloud.size();
+    if (options.crop) {
+      const Eigen::Vector3f lo = options.crop->min.cast<float>(),
+                            hi = options.crop->max.cast<float>();
+      pcl::PointCloud<pcl::PointXYZ> kept;
+      for (const pcl::PointXYZ& p : cloud) {
+        const Eigen::Vector3f q = p.getVector3fMap();
+        if ((q.array() >= lo.array()).all() && (q.array() <= hi.array()).all()) kept.push_back(p);
+      }
+      if (kept.empty()) throw ConfigError(path + ": --crop keeps none of the cloud's points");
+      cloud.swap(kept);
+    }
+    PointCloudOccupancyOptions o;
+    o.resolution = options.resolution > 0.0 ? options.resolution : 0.1;
+    o.margin = options.margin;
+    const PointCloudOccupancy occ = occupancy_from_point_cloud(cloud, o);
+    if (!options.quiet) {
+      std::fprintf(stderr, "[map3d] %zu points read, %zu kept, %zu occupied voxels\n", read,
+                   cloud.size() - occ.num_dropped, occ.num_occupied);
+    }
+    say_grid(occ.occupancy, options.quiet);
+    out.vdt = VdtMap3::build(occ.occupancy);
+    out.source = "point cloud";
+  }
+  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return out;
+}
+
+}  // namespace vdtnav::tools

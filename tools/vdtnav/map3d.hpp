@@ -1,0 +1,45 @@
+#pragma once
+/// \file
+/// \brief The 3D maps `vdtnav localize3d` and `vdtnav map3d` read: a point cloud (PCD, PLY, VTK,
+/// text), an OctoMap (.bt, .ot) or a saved VDT map (.vdt), by the extension.
+
+#include <optional>
+#include <string>
+
+#include <Eigen/Core>
+
+#include "vdtnav/map/vdt_map.hpp"
+
+namespace vdtnav::tools {
+
+/// \brief A box in the map's frame, metres: only cloud points inside it are voxelized.
+struct CropBox {
+  Eigen::Vector3d min, max;
+};
+
+/// \brief Parses "xmin,ymin,zmin,xmax,ymax,zmax". \throws ConfigError naming `what`.
+[[nodiscard]] CropBox parse_crop(const std::string& text, const std::string& what);
+
+/// \brief How a 3D map file becomes a VDT map.
+struct Map3dOptions {
+  /// Voxel edge, metres; 0: the default of the source (clouds 0.1 m; an octree its own leaf
+  /// size; a .vdt map is used as saved and refuses another).
+  double resolution = 0.0;
+  double margin = 1.0;  ///< free border around a cloud's or an octree's occupied space, metres
+  std::optional<CropBox> crop;  ///< clouds only: the points kept
+  bool quiet = false;
+};
+
+/// \brief A loaded (or built) map and how long it took.
+struct Map3d {
+  VdtMap3 vdt;
+  double seconds = 0.0;
+  std::string source;  ///< "point cloud", "octree" or "vdt map file"
+};
+
+/// \brief Loads or builds the VDT map of `path`, saying on stderr what it does (the grid's size
+/// and memory first: a dense 3D grid grows with the box, see `--crop`).
+/// \throws vdtnav::Error (file, what was expected) for a bad file or option.
+[[nodiscard]] Map3d load_map3d(const std::string& path, const Map3dOptions& options);
+
+}  // namespace vdtnav::tools
