@@ -363,7 +363,27 @@ std::vector<int> lookup_order(const VdtMap<Dim>& map, const ObservationSet<Dim>&
 template <int Dim>
 VdtOptimizerT<Dim>::VdtOptimizerT(const Map& map, const VdtOptimizerOptions& options)
     : model_(map, options.sensor), options_(options) {
+  validate_and_default();
+  coarse_maps_ = build_pyramid(map, options_.pyramid_levels);
+  make_coarse_models();
+}
+
+template <int Dim>
+VdtOptimizerT<Dim>::VdtOptimizerT(const VdtOptimizerT& other, const VdtOptimizerOptions& options)
+    : model_(other.model_.map(), options.sensor), options_(options) {
+  validate_and_default();
+  coarse_maps_ = options_.pyramid_levels == other.options_.pyramid_levels
+                     ? other.coarse_maps_
+                     : build_pyramid(other.model_.map(), options_.pyramid_levels);
+  make_coarse_models();
+}
+
+template <int Dim>
+void VdtOptimizerT<Dim>::validate_and_default() {
+  const VdtOptimizerOptions& options = options_;
   VDTNAV_CHECK(options.max_iterations >= 1, "optimizer: max_iterations must be >= 1");
+  VDTNAV_CHECK(options.function_tolerance > 0.0 && options.function_tolerance < 1.0,
+               "optimizer: function_tolerance must be in (0, 1)");
   VDTNAV_CHECK(options.gate_rounds >= 1, "optimizer: gate_rounds must be >= 1");
   VDTNAV_CHECK(options.min_inliers >= 3, "optimizer: min_inliers must be >= 3");
   VDTNAV_CHECK(options.loss_scale > 0.0, "optimizer: loss_scale must be > 0");
@@ -373,10 +393,16 @@ VdtOptimizerT<Dim>::VdtOptimizerT(const Map& map, const VdtOptimizerOptions& opt
   if (options_.pyramid_levels < 0) options_.pyramid_levels = Dim == 2 ? 2 : 3;
   if (options_.coarse_threshold < 0.0) options_.coarse_threshold = Dim == 2 ? 0.1 : 0.0;
   if constexpr (Dim == 2) options_.four_dof = false;  // a 3D option
+}
+
+template <int Dim>
+std::shared_ptr<const std::vector<std::unique_ptr<VdtMap<Dim>>>> VdtOptimizerT<Dim>::build_pyramid(
+    const Map& map, int levels) {
+  auto maps = std::make_shared<std::vector<std::unique_ptr<Map>>>();
   // Occupancy of the map: the cells that are their own nearest feature.
   using Index = typename SpaceTraits<Dim>::Index;
   const auto& nearest = map.nearest_cells();
-  for (int level = options_.pyramid_levels; level >= 1; --level) {
+  for (int level = levels; level >= 1; --level) {
     const int f = 1 << level;
     const Index size = ((nearest.size().array() + f - 1) / f).max(2);
     OccupancyGrid<Dim> coarse(
@@ -385,10 +411,17 @@ VdtOptimizerT<Dim>::VdtOptimizerT(const Map& map, const VdtOptimizerOptions& opt
       if (nearest[c] == static_cast<std::int32_t>(c))
         coarse(nearest.index_of(static_cast<std::ptrdiff_t>(c)) / f) = 1;
     }
-    coarse_maps_.push_back(std::make_unique<Map>(Map::build(coarse)));
-    VdtSensorModelOptions so = options.sensor;
-    so.gate = std::max(options.sensor.gate, 4.0 * map.resolution() * f);
-    coarse_models_.emplace_back(*coarse_maps_.back(), so);
+    maps->push_back(std::make_unique<Map>(Map::build(coarse)));
+  }
+  return maps;
+}
+
+template <int Dim>
+void VdtOptimizerT<Dim>::make_coarse_models() {
+  for (const std::unique_ptr<Map>& coarse : *coarse_maps_) {
+    VdtSensorModelOptions so = options_.sensor;
+    so.gate = std::max(options_.sensor.gate, 4.0 * coarse->resolution());
+    coarse_models_.emplace_back(*coarse, so);
   }
 }
 
@@ -440,7 +473,7 @@ typename VdtOptimizerT<Dim>::Result VdtOptimizerT<Dim>::solve_with(const Observa
   P::set(guess, x);
   const double alpha = options_.sensor.gate;
   const SolveSetup setup{options_.solver, options_.trust_region, options_.max_iterations,
-                         options_.four_dof};
+                         options_.four_dof, options_.function_tolerance};
   // IRLS passes per level of the coarse alignment: in 3D one pass per level already lands in the
   // basin of the fine solve, and each pass is a full solve over thousands of 3D lookups.
   constexpr int kIrlsPasses = Dim == 2 ? 3 : 1;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <vector>
 
 #include "vdtnav/core/error.hpp"
 
@@ -73,8 +74,26 @@ double nees(const Pose2& estimate, const Pose2& truth, const Eigen::Matrix3d& co
   return nees<3>(pose_error(estimate, truth), covariance);
 }
 
-double nees(const Pose3& estimate, const Pose3& truth, const Matrix6d& covariance) {
-  return nees<6>(ominus(estimate, truth), covariance);
+double nees(const Pose3& estimate, const Pose3& truth, const Matrix6d& covariance, int* dof) {
+  // Components the estimator held (zero rows and columns, the 4-DOF mode) are left out.
+  std::vector<int> free;
+  for (int k = 0; k < 6; ++k)
+    if (covariance.row(k).cwiseAbs().maxCoeff() > 0.0 ||
+        covariance.col(k).cwiseAbs().maxCoeff() > 0.0)
+      free.push_back(k);
+  if (dof != nullptr) *dof = static_cast<int>(free.size());
+  const Vector6d e = ominus(estimate, truth);
+  if (free.size() == 6) return nees<6>(e, covariance);
+  if (free.empty()) return std::numeric_limits<double>::quiet_NaN();
+  const int n = static_cast<int>(free.size());
+  Eigen::VectorXd ef(n);
+  Eigen::MatrixXd pf(n, n);
+  for (int i = 0; i < n; ++i) {
+    ef[i] = e[free[static_cast<std::size_t>(i)]];
+    for (int j = 0; j < n; ++j)
+      pf(i, j) = covariance(free[static_cast<std::size_t>(i)], free[static_cast<std::size_t>(j)]);
+  }
+  return nees<Eigen::Dynamic>(ef, pf);
 }
 
 AneesResult anees(const std::vector<double>& nees_values, int dof, double confidence) {

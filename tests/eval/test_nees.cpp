@@ -180,6 +180,31 @@ TEST(Nees, PoseOverloadsUseTheEstimatorsErrorParameterisation) {
   EXPECT_NEAR(nees(oplus(truth, delta), truth, p6), delta.dot(p6.ldlt().solve(delta)), 1e-9);
 }
 
+TEST(Nees, AFourDofCovarianceLeavesTheHeldRollAndPitchOut) {
+  // A 4-DOF result: zero rows and columns for dtheta_x, dtheta_y; the NEES is that of the other
+  // four components, whatever the (held) roll and pitch errors are.
+  const Pose3 truth = pose3_from_xyz_rpy(1, 2, 3, 0.1, -0.2, 2.5);
+  Vector6d delta;
+  delta << 0.02, -0.01, 0.03, 0.004, -0.003, 0.01;
+  Matrix6d cov = Matrix6d::Zero();
+  Eigen::Matrix4d free;
+  free << 4e-4, 1e-4, 0, 2e-5, 1e-4, 9e-4, 0, 0, 0, 0, 1e-3, 0, 2e-5, 0, 0, 1e-4;
+  const int idx[4] = {0, 1, 2, 5};
+  Eigen::Vector4d e;
+  for (int i = 0; i < 4; ++i) {
+    e[i] = delta[idx[i]];
+    for (int j = 0; j < 4; ++j) cov(idx[i], idx[j]) = free(i, j);
+  }
+  int dof = 0;
+  const double n = nees(oplus(truth, delta), truth, cov, &dof);
+  EXPECT_EQ(dof, 4);
+  EXPECT_NEAR(n, e.dot(free.inverse() * e), 1e-9 * n);
+  EXPECT_TRUE(std::isfinite(n));
+  // A full covariance: all six.
+  (void)nees(oplus(truth, delta), truth, Matrix6d::Identity(), &dof);
+  EXPECT_EQ(dof, 6);
+}
+
 TEST(Nees, BadCovariancesGiveNanAndAneesSkipsThem) {
   const Eigen::Matrix3d singular = Eigen::Vector3d(1.0, 1.0, 0.0).asDiagonal();
   EXPECT_TRUE(std::isnan(nees<3>(Eigen::Vector3d(1, 1, 1), singular)));

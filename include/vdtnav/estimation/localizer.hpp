@@ -1,13 +1,17 @@
 #pragma once
 /// \file
-/// \brief The interface every 2D localizer implements, so that the VDT methods and the baselines
-/// run side by side on the same data, and the result every localizer (2D and 3D) returns.
+/// \brief The interface every localizer implements, one template on the pose traits
+/// (LocalizerT<2> = Localizer2D, LocalizerT<3> = Localizer3D), so that the VDT methods and the
+/// baselines run side by side on the same data, and the result every localizer returns.
 
 #include <string>
 
 #include <Eigen/Core>
 
+#include <limits>
+
 #include "vdtnav/core/pose2.hpp"
+#include "vdtnav/core/pose3.hpp"
 #include "vdtnav/core/traits.hpp"
 #include "vdtnav/sensor/laser_scan.hpp"
 
@@ -19,6 +23,30 @@ struct OdometryStep {
   double v = 0.0;               ///< measured linear velocity, m/s (velocity model)
   double w = 0.0;               ///< measured angular velocity, rad/s
   Pose2 delta = Pose2::Zero();  ///< measured increment in the previous robot frame
+};
+
+/// \brief What odometry and an IMU report between two 3D scans.
+struct OdometryStep3 {
+  double dt = 0.0;                  ///< seconds since the previous scan
+  Pose3 delta = Pose3::Identity();  ///< measured increment in the previous robot frame
+  /// The IMU's roll and pitch of the robot at this scan (the gravity direction, R = Rz Ry Rx as
+  /// pose3_from_xyz_rpy), radians; NaN: no IMU, the prediction's own attitude is used.
+  double roll = std::numeric_limits<double>::quiet_NaN();
+  double pitch = std::numeric_limits<double>::quiet_NaN();
+
+  [[nodiscard]] bool has_attitude() const noexcept { return roll == roll && pitch == pitch; }
+};
+
+/// \brief The odometry type of dimension Dim (OdometryStep in 2D, OdometryStep3 in 3D).
+template <int Dim>
+struct OdometryTraits;
+template <>
+struct OdometryTraits<2> {
+  using Step = OdometryStep;
+};
+template <>
+struct OdometryTraits<3> {
+  using Step = OdometryStep3;
 };
 
 /// \brief Why an estimate is what it is.
@@ -90,23 +118,39 @@ struct LocalizationResultT {
 using LocalizationResult = LocalizationResultT<2>;
 using LocalizationResult3 = LocalizationResultT<3>;
 
-/// \brief A 2D localizer fed with odometry and scans, one step at a time.
-class Localizer2D {
+/// \brief A localizer fed with odometry and observations, one step at a time (aliases
+/// Localizer2D, Localizer3D): poses, covariances and results of PoseTraits<Dim>.
+template <int Dim>
+class LocalizerT {
  public:
-  virtual ~Localizer2D() = default;
+  using Pose = typename PoseTraits<Dim>::Pose;
+  using Covariance = typename PoseTraits<Dim>::Covariance;
+  using Odometry = typename OdometryTraits<Dim>::Step;
+  using Observations = ObservationSet<Dim>;
+  using Result = LocalizationResultT<Dim>;
+
+  virtual ~LocalizerT() = default;
   /// \brief Starts (again) at `pose` with uncertainty `covariance`.
-  virtual void reset(const Pose2& pose, const Eigen::Matrix3d& covariance) = 0;
+  virtual void reset(const Pose& pose, const Covariance& covariance) = 0;
   /// \brief Predicts with the odometry since the previous step, then corrects with the
   /// observations: robot-frame points with their noise (a LiDAR scan's endpoints, a camera's
-  /// edge points on the ground, ...).
-  [[nodiscard]] virtual LocalizationResult update(const OdometryStep& odometry,
-                                                  const ScanPoints& observations) = 0;
+  /// edge points on the ground, a 3D LiDAR's cloud, ...).
+  [[nodiscard]] virtual Result update(const Odometry& odometry,
+                                      const Observations& observations) = 0;
+  /// \return the method's name in tables ("vdt-opt", "pf", "vdt-opt-6dof", ...).
+  [[nodiscard]] virtual std::string name() const = 0;
+};
+
+/// \brief The 2D localizers: LocalizerT<2> and planar LiDAR scans.
+class Localizer2D : public LocalizerT<2> {
+ public:
+  using LocalizerT<2>::update;
   /// \brief A LiDAR scan: update(odometry, scan_points(scan)).
   [[nodiscard]] LocalizationResult update(const OdometryStep& odometry, const LaserScan& scan) {
     return update(odometry, scan_points(scan));
   }
-  /// \return the method's name in tables ("vdt-opt", "pf", ...).
-  [[nodiscard]] virtual std::string name() const = 0;
 };
+
+using Localizer3D = LocalizerT<3>;
 
 }  // namespace vdtnav

@@ -60,6 +60,10 @@ struct VdtOptimizerOptions {
   double loss_scale = 0.05;  ///< metres: where the robust loss departs from quadratic
   CovarianceMethod covariance = CovarianceMethod::kImplicitFunction;
   int max_iterations = 25;
+  /// A solve stops when a step changes the cost by less than this fraction of it (Ceres's
+  /// function_tolerance). 1e-6 by default; a tracker whose prediction is already close can stop
+  /// far earlier on a noisy real map, where the last steps creep (VdtLocalizer3Options).
+  double function_tolerance = 1e-6;
   int gate_rounds = 3;   ///< re-gate at the solution and solve again while the inliers change
   int min_inliers = 10;  ///< fewer usable beams: kTooFewObservations
   /// Coarse-to-fine levels used when the guess is poor (median disparity > coarse_threshold): the
@@ -119,6 +123,11 @@ class VdtOptimizerT {
 
   /// \throws ConfigError for invalid options.
   VdtOptimizerT(const Map& map, const VdtOptimizerOptions& options = {});
+  /// \brief An optimizer on `other`'s map with other options (the 4-DOF mode next to the 6-DOF
+  /// one, another loss, ...), sharing its coarse levels when the pyramid_levels agree: a
+  /// map's pyramid is built once however many optimizers use it.
+  /// \throws ConfigError for invalid options.
+  VdtOptimizerT(const VdtOptimizerT& other, const VdtOptimizerOptions& options);
 
   /// \brief Minimises d_VCD from `guess`; fills the covariance when the estimate is a minimum
   /// (positive definite Hessian), with status kNotConverged if Ceres hit its iteration limit.
@@ -153,9 +162,15 @@ class VdtOptimizerT {
                                 const Covariance* prior_information, double prior_s2,
                                 Covariance* cov) const;
 
+  void validate_and_default();
+  /// The coarse levels, resolution x 2^k for k = levels .. 1 (coarsest first).
+  [[nodiscard]] static std::shared_ptr<const std::vector<std::unique_ptr<Map>>> build_pyramid(
+      const Map& map, int levels);
+  void make_coarse_models();
+
   SensorModel model_;
   VdtOptimizerOptions options_;
-  std::vector<std::unique_ptr<Map>> coarse_maps_;  // coarsest first
+  std::shared_ptr<const std::vector<std::unique_ptr<Map>>> coarse_maps_;  // coarsest first, shared
   std::vector<SensorModel> coarse_models_;
 };
 

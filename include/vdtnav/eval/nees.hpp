@@ -69,8 +69,11 @@ template <int Dof>
                           const Eigen::Matrix3d& covariance);
 
 /// \return the NEES of an SE(3) estimate: e = ominus(estimate, truth) = (dt, dtheta), the left
-/// (world-frame) perturbation of pose3.hpp that the 6-DOF covariances are expressed in.
-[[nodiscard]] double nees(const Pose3& estimate, const Pose3& truth, const Matrix6d& covariance);
+/// (world-frame) perturbation of pose3.hpp that the 6-DOF covariances are expressed in. The
+/// components whose rows and columns are zero (held by the estimator: roll and pitch in the
+/// 4-DOF mode) are left out; `dof`, if given, receives the number kept (the chi-square's dof).
+[[nodiscard]] double nees(const Pose3& estimate, const Pose3& truth, const Matrix6d& covariance,
+                          int* dof = nullptr);
 
 /// \brief The average NEES of a run and its consistency test.
 struct AneesResult {

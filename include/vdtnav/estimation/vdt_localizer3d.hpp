@@ -1,0 +1,100 @@
+#pragma once
+/// \file
+/// \brief A 3D LiDAR moving through a 3D map: Algorithm 1 in SE(3), one scan at a time, behind
+/// the Localizer3D interface (LocalizerT<3>, localizer.hpp).
+///
+/// Per scan:
+/// 1. Prediction (UPDATEGUESS): X- = X (+) odometry increment; with an IMU, X-'s roll and pitch are
+///    the IMU's (R = Rz(yaw-) Ry(pitch_imu) Rx(roll_imu)). Its covariance P- = F P F^T + Q in the
+///    left perturbation (dt, dtheta): F = [I, -[R dt_odo]x; 0, I] and Q the odometry noise
+///    (per metre and per radian of the increment, in the robot frame), with the IMU's variance on
+///    roll and pitch when it gives them.
+/// 2. Update: the 6-DOF or 4-DOF solve (VdtOptimizer3) from X-; the fraction of the scan the map
+///    explains there (multi_start.hpp's explained_fraction) says whether it is right: converged is
+///    not correct. Below accept_fraction, multi-start from X- (axis starts and the attitude grid;
+///    while lost, only on lost scans 1, 2, 4, 8 and then every 16th: each costs ~0.5-1 s);
+///    still below: the scan is refused (status kRefused) and the prediction kept.
+/// 3. Lost detection: the explained fraction's window test (lost_detection.hpp) reports kLost.
+///
+/// 4-DOF mode: roll and pitch are held at the IMU's (or the prediction's), so their error goes
+/// into x, y, z and yaw through the scan: the reported 6 x 6 covariance is that of the 4-DOF solve
+/// plus S Sigma_rp S^T, S = -Lambda_ff^-1 Lambda_fr the sensitivity of the free components to the
+/// held ones (Lambda the scan's 6-DOF information at the solution), with Sigma_rp the IMU's
+/// variance in the roll/pitch rows: every component has an honest variance (eval::nees works).
+
+#include <string>
+
+#include "vdtnav/estimation/localizer.hpp"
+#include "vdtnav/estimation/lost_detection.hpp"
+#include "vdtnav/estimation/multi_start.hpp"
+#include "vdtnav/estimation/vdt_optimizer.hpp"
+
+namespace vdtnav {
+
+/// \brief Options of the sequential 3D localizer.
+struct VdtLocalizer3Options {
+  /// The solve (four_dof selects the 4-DOF mode). The prediction is good when tracking, so the
+  /// coarse-to-fine alignment runs only when the median disparity at it exceeds 0.1 m (in 3D the
+  /// optimizer alone defaults to always), and a solve stops when a step changes the cost by less
+  /// than 1e-4 of it (on the CATEC map 1e-6 costs 2x the time, 40 against 19 iterations a scan,
+  /// for the same accuracy).
+  VdtOptimizerOptions optimizer = [] {
+    VdtOptimizerOptions o;
+    o.coarse_threshold = 0.1;
+    o.function_tolerance = 1e-4;
+    o.sensor.map_correlation_length = 1.0;
+    return o;
+  }();
+  /// Odometry noise (1 sigma) per metre travelled and per radian turned in an increment, and
+  /// per second (a robot standing still drifts too), robot frame.
+  double sigma_translation_per_metre = 0.05;
+  double sigma_rotation_per_radian = 0.05;
+  double sigma_translation_per_second = 0.02;  ///< m/s
+  double sigma_rotation_per_second = 0.01;     ///< rad/s
+  /// The IMU's roll and pitch noise (1 sigma), radians: a consumer-grade AHRS, ~0.3 degrees.
+  double sigma_imu_attitude = 0.005;
+  /// A reading is explained when its disparity is below this (metres).
+  double explained_distance = 0.1;
+  /// A solution explaining less of the scan is not accepted; multi-start runs first.
+  double accept_fraction = 0.5;
+  /// The map's own errors: readings in one 1 m cube share one (VdtSensorModelOptions), the
+  /// optimizer's sensor.map_correlation_length above; without it the covariance of a VLP-16 scan,
+  /// ~2000 readings, is 3x too small even on an exact map (tests/estimation/test_vdt_localizer3d).
+  MultiStartOptions multi_start = [] {
+    MultiStartOptions o;
+    o.attitude_grid = 2;
+    return o;
+  }();
+  LostDetectionOptions lost;
+};
+
+/// \brief Algorithm 1 in SE(3) as a Localizer3D (names "vdt-opt-6dof", "vdt-opt-4dof").
+class VdtOptimizationLocalizer3 final : public Localizer3D {
+ public:
+  /// \throws ConfigError for invalid options. The map must outlive the localizer.
+  VdtOptimizationLocalizer3(const VdtMap3& map, const VdtLocalizer3Options& options = {});
+  /// \brief As above sharing `shared`'s coarse levels (same map): both modes built once.
+  VdtOptimizationLocalizer3(const VdtOptimizer3& shared, const VdtLocalizer3Options& options);
+
+  void reset(const Pose3& pose, const Matrix6d& covariance) override;
+  [[nodiscard]] LocalizationResult3 update(const OdometryStep3& odometry,
+                                           const ObservationSet3& observations) override;
+  [[nodiscard]] std::string name() const override;
+  [[nodiscard]] const VdtOptimizer3& optimizer() const noexcept { return optimizer_; }
+
+ private:
+  /// The 4-DOF covariance made whole: the held roll and pitch's variance and what their error
+  /// does to the free components (see the file comment).
+  [[nodiscard]] Matrix6d with_held_attitude(const ObservationSet3& observations,
+                                            const LocalizationResult3& r) const;
+
+  VdtLocalizer3Options options_;
+  VdtOptimizer3 optimizer_;
+  VdtOptimizer3 full_;  ///< the 6-DOF twin (shared pyramid) for the 4-DOF mode's sensitivities
+  LostDetector lost_;
+  int lost_scans_ = 0;  ///< consecutive scans reported lost (multi-start on 1, 2, 4, 8, then 16s)
+  Pose3 pose_ = Pose3::Identity();
+  Matrix6d covariance_ = Matrix6d::Zero();
+};
+
+}  // namespace vdtnav

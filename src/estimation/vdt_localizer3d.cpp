@@ -1,0 +1,177 @@
+#include "vdtnav/estimation/vdt_localizer3d.hpp"
+
+#include <cmath>
+#include <vector>
+
+#include <Eigen/Cholesky>
+
+#include "vdtnav/core/error.hpp"
+
+namespace vdtnav {
+namespace {
+
+void check(const VdtLocalizer3Options& o) {
+  VDTNAV_CHECK(o.sigma_translation_per_metre >= 0.0 && o.sigma_rotation_per_radian >= 0.0 &&
+                   o.sigma_translation_per_second >= 0.0 && o.sigma_rotation_per_second >= 0.0 &&
+                   o.sigma_imu_attitude > 0.0,
+               "localizer3d: odometry and IMU sigmas must be >= 0 (the IMU's > 0)");
+  VDTNAV_CHECK(o.explained_distance > 0.0, "localizer3d: explained_distance must be > 0");
+  VDTNAV_CHECK(o.accept_fraction >= 0.0 && o.accept_fraction <= 1.0,
+               "localizer3d: accept_fraction must be in [0, 1]");
+  o.lost.validate();
+}
+
+VdtOptimizerOptions six_dof(VdtOptimizerOptions o) {
+  o.four_dof = false;
+  return o;
+}
+
+}  // namespace
+
+VdtOptimizationLocalizer3::VdtOptimizationLocalizer3(const VdtMap3& map,
+                                                     const VdtLocalizer3Options& options)
+    : options_(options),
+      optimizer_(map, options.optimizer),
+      full_(optimizer_, six_dof(options.optimizer)),
+      lost_(options.lost) {
+  check(options);
+}
+
+VdtOptimizationLocalizer3::VdtOptimizationLocalizer3(const VdtOptimizer3& shared,
+                                                     const VdtLocalizer3Options& options)
+    : options_(options),
+      optimizer_(shared, options.optimizer),
+      full_(shared, six_dof(options.optimizer)),
+      lost_(options.lost) {
+  check(options);
+}
+
+void VdtOptimizationLocalizer3::reset(const Pose3& pose, const Matrix6d& covariance) {
+  pose_ = pose;
+  covariance_ = covariance;
+  lost_.reset();
+  lost_scans_ = 0;
+}
+
+std::string VdtOptimizationLocalizer3::name() const {
+  return optimizer_.options().four_dof ? "vdt-opt-4dof" : "vdt-opt-6dof";
+}
+
+Matrix6d VdtOptimizationLocalizer3::with_held_attitude(const ObservationSet3& observations,
+                                                       const LocalizationResult3& r) const {
+  // The scan's 6-DOF information at the solution, Lambda = Sigma_6^-1, over its inliers.
+  std::vector<char> inliers(observations.size(), 0);
+  const VdtSensorModel3& model = full_.sensor_model();
+  for (std::size_t i = 0; i < observations.size(); ++i) {
+    bool inlier = false;
+    (void)model.disparity_value(r.pose.linear(), r.pose.translation(), observations.points[i],
+                                &inlier);
+    inliers[i] = inlier ? 1 : 0;
+  }
+  Matrix6d sigma6;
+  Matrix6d out = r.covariance;
+  const double s2 = options_.sigma_imu_attitude * options_.sigma_imu_attitude;
+  const int f[4] = {0, 1, 2, 5}, h[2] = {3, 4};
+  if (full_.covariance(observations, r.pose, inliers, &sigma6)) {
+    const Matrix6d lambda = sigma6.ldlt().solve(Matrix6d::Identity());
+    Eigen::Matrix4d lff;
+    Eigen::Matrix<double, 4, 2> lfh;
+    for (int i = 0; i < 4; ++i) {
+      for (int j = 0; j < 4; ++j) lff(i, j) = lambda(f[i], f[j]);
+      for (int j = 0; j < 2; ++j) lfh(i, j) = lambda(f[i], h[j]);
+    }
+    // x_f - x_f* = S (theta_held - theta), S = -Lambda_ff^-1 Lambda_fh (conditional mean).
+    const Eigen::Matrix<double, 4, 2> sens = -lff.ldlt().solve(lfh);
+    const Eigen::Matrix4d add = s2 * sens * sens.transpose();
+    const Eigen::Matrix<double, 4, 2> cross = s2 * sens;
+    for (int i = 0; i < 4; ++i) {
+      for (int j = 0; j < 4; ++j) out(f[i], f[j]) += add(i, j);
+      for (int j = 0; j < 2; ++j) out(f[i], h[j]) = out(h[j], f[i]) = cross(i, j);
+    }
+  }
+  for (int j = 0; j < 2; ++j) out(h[j], h[j]) = s2;
+  return out;
+}
+
+LocalizationResult3 VdtOptimizationLocalizer3::update(const OdometryStep3& odometry,
+                                                      const ObservationSet3& observations) {
+  // 1. Prediction.
+  const Eigen::Vector3d step = odometry.delta.translation();
+  const double turn = so3_log(odometry.delta.linear()).norm();
+  Pose3 guess = pose_ * odometry.delta;
+  Matrix6d f = Matrix6d::Identity();
+  f.topRightCorner<3, 3>() = -skew(pose_.linear() * step);
+  const double st = options_.sigma_translation_per_metre * step.norm() +
+                    options_.sigma_translation_per_second * odometry.dt;
+  const double sr =
+      options_.sigma_rotation_per_radian * turn + options_.sigma_rotation_per_second * odometry.dt;
+  Matrix6d q = Matrix6d::Zero();
+  q.topLeftCorner<3, 3>().diagonal().setConstant(st * st);  // isotropic: any frame
+  q.bottomRightCorner<3, 3>().diagonal().setConstant(sr * sr);
+  Matrix6d predicted = f * covariance_ * f.transpose() + q;
+  if (odometry.has_attitude()) {
+    const Eigen::Vector3d rpy = rpy_of(guess.linear());
+    guess.linear() = pose3_from_xyz_rpy(0, 0, 0, odometry.roll, odometry.pitch, rpy.z()).linear();
+    const double s2 = options_.sigma_imu_attitude * options_.sigma_imu_attitude;
+    for (int k = 3; k <= 4; ++k) {
+      predicted.row(k).setZero();
+      predicted.col(k).setZero();
+      predicted(k, k) = s2;
+    }
+  }
+
+  // 2. Update, and whether the map explains the scan there.
+  const VdtSensorModel3& model = optimizer_.sensor_model();
+  LocalizationResult3 r = optimizer_.solve(observations, guess);
+  double explained =
+      r.status == LocalizationStatus::kConverged
+          ? explained_fraction(model, observations, r.pose, options_.explained_distance)
+          : 0.0;
+  const bool attempt =
+      lost_scans_ == 0 || (lost_scans_ & (lost_scans_ - 1)) == 0 || lost_scans_ % 16 == 0;
+  if (explained < options_.accept_fraction && attempt) {
+    MultiStartOptions ms = options_.multi_start;
+    ms.explained_distance = options_.explained_distance;
+    ms.accept_fraction = std::max(ms.accept_fraction, options_.accept_fraction);
+    LocalizationResult3 m = solve_multi_start(optimizer_, observations, guess, ms);
+    const double e =
+        m.status == LocalizationStatus::kConverged || m.status == LocalizationStatus::kNotConverged
+            ? explained_fraction(model, observations, m.pose, options_.explained_distance)
+            : 0.0;
+    m.work.solves += r.work.solves;
+    m.iterations += r.iterations;
+    if (e > explained) {
+      r = std::move(m);
+      explained = e;
+    } else {
+      r.work.solves = m.work.solves;
+      r.iterations = m.iterations;
+    }
+  }
+  r.explained = explained;
+  const bool accepted = (r.status == LocalizationStatus::kConverged ||
+                         r.status == LocalizationStatus::kNotConverged) &&
+                        r.has_covariance && explained >= options_.accept_fraction;
+  if (accepted) {
+    if (optimizer_.options().four_dof) r.covariance = with_held_attitude(observations, r);
+    pose_ = r.pose;
+    covariance_ = r.covariance;
+  } else {
+    if (r.status == LocalizationStatus::kConverged) r.status = LocalizationStatus::kRefused;
+    pose_ = guess;
+    covariance_ = predicted;
+    r.pose = guess;
+    r.covariance = predicted;
+    r.has_covariance = true;
+  }
+  // 3. Lost detection on the explained fraction.
+  if (lost_.update(explained)) {
+    r.status = LocalizationStatus::kLost;
+    ++lost_scans_;
+  } else {
+    lost_scans_ = 0;
+  }
+  return r;
+}
+
+}  // namespace vdtnav
