@@ -8,5 +8,6 @@
 #include "vdtnav/io/point_set_map.hpp"
 #include "vdtnav/io/relations.hpp"
 #include "vdtnav/io/ros_map.hpp"
+#include "vdtnav/io/sparse_vdt_map_file.hpp"
 #include "vdtnav/io/tum_trajectory.hpp"
 #include "vdtnav/io/vdt_map_file.hpp"

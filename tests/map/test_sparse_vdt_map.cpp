@@ -1,0 +1,280 @@
+// The sparse (brick) VDT map against the dense VdtMap3 of the same occupancy (a generated room):
+// values and Jacobians inside the band, the tolerance shown to be tight (no prefilter overlap
+// fails it), exact nearest points against brute force, the coarse level's direction beyond the
+// band, and the saved, memory-mapped file (bit-identical lookups, bad files refused).
+#include "vdtnav/map/sparse_vdt_map.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "vdtnav/io/sparse_vdt_map_file.hpp"
+#include "vdtnav/map/vdt_map.hpp"
+#include "vdtnav/map/vector_distance_transform.hpp"
+#include "vdtnav/sim/room3d.hpp"
+
+namespace vdtnav {
+namespace {
+
+/// Tolerances of the fine level against the dense map (SparseVdtMapOptions::prefilter_overlap = 8:
+/// 0.268^8 ~ 3e-5 of a coefficient's neighbours' differences, plus float rounding).
+constexpr double kValueTolerance = 2e-5;     // metres (the room's resolution is 0.1 m)
+constexpr double kJacobianTolerance = 5e-4;  // per unit (the Jacobian is ~identity)
+
+struct Room {
+  sim::Room3d room;
+  VdtMap3 dense;
+  std::vector<Eigen::Vector3d> surface;  ///< feature voxel centres, the brute-force oracle
+};
+
+const Room& room() {
+  static const Room r = [] {
+    Room r;
+    sim::Room3dOptions o;
+    o.resolution = 0.1;
+    o.wall_thickness = 0.3;
+    r.room = sim::generate_room3d(o);
+    r.dense = VdtMap3::build(r.room.occupancy);
+    const OccupancyGrid<3> s = surface_cells(r.room.occupancy);
+    for (std::size_t c = 0; c < s.num_cells(); ++c) {
+      if (s[c] != 0) r.surface.push_back(s.cell_center(s.index_of(static_cast<std::ptrdiff_t>(c))));
+    }
+    return r;
+  }();
+  return r;
+}
+
+double brute_force_distance(const Eigen::Vector3d& p) {
+  double best = std::numeric_limits<double>::infinity();
+  for (const Eigen::Vector3d& s : room().surface) best = std::min(best, (p - s).squaredNorm());
+  return std::sqrt(best);
+}
+
+/// Random points of the box whose distance to the surface (the dense map's exact query) is in
+/// [lo, hi] metres.
+std::vector<Eigen::Vector3d> points_at_distance(double lo, double hi, std::size_t count,
+                                                std::uint32_t seed) {
+  const VdtMap3& dense = room().dense;
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> uni(0.0, 1.0);
+  std::vector<Eigen::Vector3d> out;
+  while (out.size() < count) {
+    Eigen::Vector3d u;
+    for (int d = 0; d < 3; ++d) u[d] = (dense.size()[d] - 1.0) * uni(rng);
+    const Eigen::Vector3d p = dense.frame().world_point(u);
+    const double dist = brute_force_distance(p);
+    if (dist >= lo && dist <= hi) out.push_back(p);
+  }
+  return out;
+}
+
+struct Agreement {
+  double value = 0.0, jacobian = 0.0;  ///< largest differences
+  std::size_t coarse = 0;              ///< points answered by the coarse level
+};
+
+Agreement agreement(const SparseVdtMap3& sparse, const std::vector<Eigen::Vector3d>& pts) {
+  Agreement a;
+  std::vector<VdtSample<3>> s(pts.size()), d(pts.size());
+  sparse.evaluate(pts.data(), pts.size(), s.data());
+  room().dense.evaluate(pts.data(), pts.size(), d.data());
+  for (std::size_t k = 0; k < pts.size(); ++k) {
+    a.coarse += !sparse.fine_level(pts[k]);
+    a.value = std::max(a.value, (s[k].value - d[k].value).cwiseAbs().maxCoeff());
+    a.jacobian = std::max(a.jacobian, (s[k].jacobian - d[k].jacobian).cwiseAbs().maxCoeff());
+  }
+  return a;
+}
+
+TEST(SparseVdtMap, AgreesWithTheDenseMapInsideTheBand) {
+  const SparseVdtMap3 sparse = SparseVdtMap3::build(room().room.occupancy);
+  const double band = sparse.band() * sparse.resolution();
+  const auto pts = points_at_distance(0.0, band, 4000, 1);
+  const Agreement a = agreement(sparse, pts);
+  EXPECT_EQ(a.coarse, 0u) << "every point within the band is answered by the bricks";
+  EXPECT_LT(a.value, kValueTolerance);
+  EXPECT_LT(a.jacobian, kJacobianTolerance);
+  std::printf("band agreement: |dv| %.3g m, |dJ| %.3g, bricks %zu, %zu B (dense %zu B)\n", a.value,
+              a.jacobian, sparse.bricks().num_bricks, sparse.memory_bytes(),
+              room().dense.memory_bytes());
+}
+
+TEST(SparseVdtMap, ToleranceIsTightWithoutPrefilterOverlap) {
+  // Prefiltering each tile alone (or with too little overlap) is a different spline near the
+  // tiles' borders: the tolerance above must catch it.
+  const auto pts = points_at_distance(0.0, 0.4, 4000, 2);
+  for (int overlap : {0, 2}) {
+    SparseVdtMapOptions o;
+    o.prefilter_overlap = overlap;
+    const Agreement a = agreement(SparseVdtMap3::build(room().room.occupancy, o), pts);
+    EXPECT_GT(a.value, kValueTolerance) << "overlap " << overlap;
+  }
+}
+
+TEST(SparseVdtMap, MatchesTheDenseMapOnARotatedFrame) {
+  OccupancyGrid<3> occ = room().room.occupancy;
+  const GridFrame<3> f(occ.resolution(), occ.frame().origin(), 0.4);
+  OccupancyGrid<3> rotated(occ.size(), f, 0);
+  rotated.values() = occ.values();
+  const VdtMap3 dense = VdtMap3::build(rotated);
+  const SparseVdtMap3 sparse = SparseVdtMap3::build(rotated);
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> uni(0.0, 1.0);
+  int checked = 0;
+  for (int k = 0; k < 20000 && checked < 1000; ++k) {
+    Eigen::Vector3d u;
+    for (int d = 0; d < 3; ++d) u[d] = (occ.size()[d] - 1.0) * uni(rng);
+    const Eigen::Vector3d p = f.world_point(u);
+    if (dense.nearest_point_query(p).value.norm() > 0.3) continue;
+    const VdtSample<3> s = sparse.evaluate(p), d = dense.evaluate(p);
+    ASSERT_TRUE(sparse.fine_level(p));
+    EXPECT_LT((s.value - d.value).cwiseAbs().maxCoeff(), kValueTolerance);
+    EXPECT_LT((s.jacobian - d.jacobian).cwiseAbs().maxCoeff(), kJacobianTolerance);
+    ++checked;
+  }
+  EXPECT_EQ(checked, 1000);
+}
+
+TEST(SparseVdtMap, NearestPointIsExactInsideTheBand) {
+  const SparseVdtMap3 sparse = SparseVdtMap3::build(room().room.occupancy);
+  const double band = sparse.band() * sparse.resolution();
+  for (const Eigen::Vector3d& p : points_at_distance(0.0, band, 500, 4)) {
+    // The query answers for the centre of p's cell (as VdtMap3's): compare there.
+    const Eigen::Vector3d c = sparse.frame().cell_center(sparse.frame().cell_of(p));
+    const VdtSample<3> s = sparse.nearest_point_query(c);
+    EXPECT_NEAR(s.value.norm(), brute_force_distance(c), 1e-9) << p.transpose();
+    EXPECT_TRUE(s.jacobian.isIdentity());
+  }
+}
+
+TEST(SparseVdtMap, BeyondTheBandTheCoarseLevelPointsAway) {
+  const SparseVdtMap3 sparse = SparseVdtMap3::build(room().room.occupancy);
+  const double band = sparse.band() * sparse.resolution();
+  const auto pts = points_at_distance(band + 0.1, 100.0, 2000, 5);
+  std::size_t coarse = 0, away = 0, growing = 0, dense_away = 0, dense_growing = 0;
+  for (const Eigen::Vector3d& p : pts) {
+    const VdtSample<3> s = sparse.evaluate(p);
+    ASSERT_TRUE(s.value.allFinite() && s.jacobian.allFinite());
+    if (sparse.fine_level(p)) continue;  // the dense map's spline, tested above
+    ++coarse;
+    const Eigen::Vector3d exact = room().dense.nearest_point_query(p).value;
+    away += s.value.dot(exact) > 0.0;  // points away from the nearest surface
+    // p - c with c a real surface voxel: never nearer than the nearest one.
+    EXPECT_GE(s.value.norm(), brute_force_distance(p) - 1e-9);
+    // d|DT_v|^2/dp = 2 J^T DT_v: the distance grows along DT_v.
+    growing += s.value.dot(s.jacobian.transpose() * s.value) > 0.0;
+    const VdtSample<3> d = room().dense.evaluate(p);
+    dense_away += d.value.dot(exact) > 0.0;
+    dense_growing += d.value.dot(d.jacobian.transpose() * d.value) > 0.0;
+  }
+  std::printf("dense at the same points: %zu away, %zu growing\n", dense_away, dense_growing);
+  EXPECT_GT(coarse, pts.size() / 4) << "the test reaches the coarse level";
+  EXPECT_GE(away, coarse * 95 / 100);  // 96 %: the rest lie near cut loci
+  EXPECT_EQ(growing, coarse);          // J = I
+  std::printf("beyond the band: %zu/%zu coarse, of which %zu away, %zu growing\n", coarse,
+              pts.size(), away, growing);
+}
+
+TEST(SparseVdtMap, BuildsFromAVoxelListAndRefusesBadInput) {
+  const GridFrame<3> f(0.1, Eigen::Vector3d::Zero());
+  std::vector<Eigen::Vector3i> wall;
+  for (int z = 0; z < 20; ++z)
+    for (int y = 0; y < 30; ++y) wall.emplace_back(10, y, z);
+  const SparseVdtMap3 m = SparseVdtMap3::build(wall, f, Eigen::Vector3i(40, 30, 20));
+  const VdtSample<3> s = m.evaluate(Eigen::Vector3d(1.33, 1.5, 1.0));
+  EXPECT_NEAR(s.value.x(), 1.33 - 1.05, 1e-5);  // the wall's centre plane is x = 1.05
+  EXPECT_NEAR(s.jacobian(0, 0), 1.0, 1e-4);
+  EXPECT_THROW((void)SparseVdtMap3::build({}, f, Eigen::Vector3i(40, 30, 20)), ConfigError);
+  EXPECT_THROW(
+      (void)SparseVdtMap3::build({Eigen::Vector3i(40, 0, 0)}, f, Eigen::Vector3i(40, 30, 20)),
+      ConfigError);
+  EXPECT_THROW((void)SparseVdtMap3::build(wall, f, Eigen::Vector3i(40, 30, 3)), ConfigError);
+  SparseVdtMapOptions o;
+  o.band = -1.0;
+  EXPECT_THROW((void)SparseVdtMap3::build(wall, f, Eigen::Vector3i(40, 30, 20), o), ConfigError);
+}
+
+std::string tmp_path(const std::string& name) {
+  std::filesystem::create_directories(VDTNAV_TEST_TMP);
+  return std::string(VDTNAV_TEST_TMP) + "/" + name;
+}
+
+TEST(SparseVdtMapFile, MemoryMappedRoundTripIsBitIdentical) {
+  const SparseVdtMap3 built = SparseVdtMap3::build(room().room.occupancy);
+  const std::string path = tmp_path("room.vdtsp");
+  save_sparse_vdt_map(path, built);
+  const SparseVdtMap3 loaded = load_sparse_vdt_map(path);
+  EXPECT_EQ(loaded.bricks().num_bricks, built.bricks().num_bricks);
+  EXPECT_EQ(loaded.memory_bytes(), built.memory_bytes());
+  auto pts = points_at_distance(0.0, 0.4, 1000, 6);
+  const auto far = points_at_distance(0.6, 100.0, 1000, 7);
+  pts.insert(pts.end(), far.begin(), far.end());
+  pts.emplace_back(-5.0, 100.0, 2.0);  // outside the box
+  std::vector<VdtSample<3>> a(pts.size()), b(pts.size());
+  built.evaluate(pts.data(), pts.size(), a.data());
+  loaded.evaluate(pts.data(), pts.size(), b.data());
+  for (std::size_t k = 0; k < pts.size(); ++k) {
+    ASSERT_EQ(std::memcmp(a[k].value.data(), b[k].value.data(), sizeof(double) * 3), 0);
+    ASSERT_EQ(std::memcmp(a[k].jacobian.data(), b[k].jacobian.data(), sizeof(double) * 9), 0);
+    ASSERT_EQ(a[k].inside, b[k].inside);
+    ASSERT_EQ(built.nearest_point_query(pts[k]).value, loaded.nearest_point_query(pts[k]).value);
+  }
+  EXPECT_FALSE(a.back().inside);
+}
+
+/// Writes bytes to a file and expects load_sparse_vdt_map to refuse it with the file's name and
+/// `what` in the message.
+void expect_refused(const std::string& name, const std::vector<char>& bytes,
+                    const std::string& what) {
+  const std::string path = tmp_path(name);
+  {
+    std::ofstream out(path, std::ios::binary | std::ios::trunc);
+    out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+  }
+  try {
+    (void)load_sparse_vdt_map(path);
+    ADD_FAILURE() << name << " was accepted";
+  } catch (const FormatError& e) {
+    EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find(what), std::string::npos) << e.what();
+  }
+}
+
+TEST(SparseVdtMapFile, RefusesBadFilesNamingThem) {
+  const std::string path = tmp_path("good.vdtsp");
+  save_sparse_vdt_map(path, SparseVdtMap3::build(room().room.occupancy));
+  std::ifstream in(path, std::ios::binary);
+  const std::vector<char> good((std::istreambuf_iterator<char>(in)),
+                               std::istreambuf_iterator<char>());
+  expect_refused("empty.vdtsp", {}, "not a sparse vdtnav map file");
+  std::vector<char> bad = good;
+  bad[0] = 'X';
+  expect_refused("magic.vdtsp", bad, "not a sparse vdtnav map file");
+  expect_refused("short_header.vdtsp", std::vector<char>(good.begin(), good.begin() + 50),
+                 "truncated file");
+  expect_refused("truncated.vdtsp", std::vector<char>(good.begin(), good.end() - 100),
+                 "truncated file");
+  bad = good;
+  bad.push_back(0);
+  expect_refused("long.vdtsp", bad, "unexpected data after the map");
+  bad = good;
+  bad[8] = 9;
+  expect_refused("version.vdtsp", bad, "unsupported format version 9");
+  bad = good;
+  bad[20] ^= 1;
+  expect_refused("header.vdtsp", bad, "header checksum mismatch");
+  bad = good;
+  bad[bad.size() - 1000] ^= 0x10;
+  expect_refused("payload.vdtsp", bad, "checksum mismatch");
+  EXPECT_THROW((void)load_sparse_vdt_map(tmp_path("missing.vdtsp")), IoError);
+}
+
+}  // namespace
+}  // namespace vdtnav
