@@ -4,6 +4,9 @@
 //                            "3D build <= 25 ns/voxel" target and BM_VdtBuild3D measure;
 //   BM_VdtMapBuild3DOctomap: the whole VdtMap3::build (surface cells, transform, DT_v samples and
 //                            the spline prefilter of every component), as BM_VdtMapBuild3D.
+//   BM_VdtBuild3DSparse:     SparseVdtMap3::build from the list of occupied voxels (band 4 voxels),
+//                            no dense grid; bytes_per_cell is the sparse map's memory per voxel of
+//                            the box (BM_VdtMapBuild3DOctomap's is the dense map's).
 // ns_per_cell is the build time per voxel of the grid.
 #include <benchmark/benchmark.h>
 
@@ -11,6 +14,7 @@
 #include <string>
 
 #include "../bench_counters.hpp"
+#include "vdtnav/map/sparse_vdt_map.hpp"
 #include "vdtnav/map/vdt_map.hpp"
 #include "vdtnav/map/vector_distance_transform.hpp"
 #include "vdtnav/octomap/octree_map.hpp"
@@ -81,6 +85,31 @@ void BM_VdtMapBuild3DOctomap(benchmark::State& state) {
   set_map_counters(state, c.occ);
 }
 BENCHMARK(BM_VdtMapBuild3DOctomap)->Unit(benchmark::kMillisecond);
+
+void BM_VdtBuild3DSparse(benchmark::State& state) {
+  const Catec& c = catec();
+  if (!c.error.empty()) {
+    state.SkipWithError(c.error.c_str());
+    return;
+  }
+  const OccupancyGrid<3>& occ = c.occ.occupancy;
+  std::vector<Eigen::Vector3i> occupied;
+  for (std::size_t k = 0; k < occ.num_cells(); ++k) {
+    if (occ[k] != 0) occupied.push_back(occ.index_of(static_cast<std::ptrdiff_t>(k)));
+  }
+  const bench::PerItemTimer timer;
+  for (auto _ : state) {
+    auto map = SparseVdtMap3::build(occupied, occ.frame(), occ.size());
+    benchmark::DoNotOptimize(map.bricks().coefficients);
+    state.counters["bytes_per_cell"] =
+        static_cast<double>(map.memory_bytes()) / static_cast<double>(occ.num_cells());
+    state.counters["bricks"] = static_cast<double>(map.bricks().num_bricks);
+    state.counters["MB"] = static_cast<double>(map.memory_bytes()) * 1e-6;
+  }
+  timer.set(state, "ns_per_cell", static_cast<double>(occ.num_cells()));
+  set_map_counters(state, c.occ);
+}
+BENCHMARK(BM_VdtBuild3DSparse)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace vdtnav

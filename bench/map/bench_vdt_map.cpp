@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "../bench_counters.hpp"
+#include "vdtnav/map/sparse_vdt_map.hpp"
 #include "vdtnav/map/vdt_map.hpp"
 #include "vdtnav/sim/floor_plan.hpp"
 #include "vdtnav/sim/ray_casting.hpp"
@@ -25,6 +26,8 @@ struct Fixture {
   VdtMap<Dim> map;
   std::vector<Vector> coherent, random;
   double bytes_per_cell = 0.0;
+  SparseVdtMap3 sparse;  ///< 3D: the same occupancy as bricks (band 4 voxels)
+  double sparse_bytes_per_cell = 0.0;
 };
 
 /// The generated floor plan (40 m x 18 m, 0.05 m cells) and scans from its tour.
@@ -73,6 +76,8 @@ const Fixture<3>& fixture3() {
               (z == 0 || z == nz - 1 || plan.occupancy(Eigen::Vector2i(x, y))) ? 1 : 0;
     f.map = VdtMap<3>::build(occ);
     f.bytes_per_cell = static_cast<double>(f.map.memory_bytes()) / occ.num_cells();
+    f.sparse = SparseVdtMap3::build(occ);
+    f.sparse_bytes_per_cell = static_cast<double>(f.sparse.memory_bytes()) / occ.num_cells();
     for (std::size_t k = 0; k + 1 < plan.tour.size() && f.coherent.size() < (1u << 16); k += 3) {
       const Eigen::Vector3d p(plan.tour[k].x(), plan.tour[k].y(), 0.5);
       for (int t = 0; t < 19; ++t) {
@@ -136,6 +141,23 @@ void lookup(benchmark::State& state, const Fixture<Dim>& f, bool coherent) {
   state.counters["bytes_per_cell"] = f.bytes_per_cell;
 }
 
+/// The sparse map on the same points as lookup<3, false> (the dense BM_VdtLookupGradient3D).
+void lookup_sparse(benchmark::State& state, const Fixture<3>& f, bool coherent) {
+  const auto& pts = coherent ? f.coherent : f.random;
+  std::size_t i = 0, fine = 0;
+  for (const auto& p : pts) fine += f.sparse.fine_level(p);
+  const bench::PerItemTimer timer;
+  for (auto _ : state) {
+    auto s = f.sparse.evaluate(pts[i]);
+    benchmark::DoNotOptimize(s);
+    if (++i == pts.size()) i = 0;
+  }
+  timer.set(state, "ns_per_point", 1.0);
+  state.counters["points"] = static_cast<double>(pts.size());
+  state.counters["fine_fraction"] = static_cast<double>(fine) / static_cast<double>(pts.size());
+  state.counters["bytes_per_cell"] = f.sparse_bytes_per_cell;
+}
+
 // Registered by name so that the names stay exactly BM_VdtLookup<...>/<coherent|random>.
 const bool kRegistered = [] {
   benchmark::RegisterBenchmark("BM_VdtLookupGradient2D/coherent",
@@ -148,6 +170,10 @@ const bool kRegistered = [] {
                                [](benchmark::State& s) { lookup<3, false>(s, fixture3(), true); });
   benchmark::RegisterBenchmark("BM_VdtLookupGradient3D/random",
                                [](benchmark::State& s) { lookup<3, false>(s, fixture3(), false); });
+  benchmark::RegisterBenchmark("BM_VdtLookupGradient3DSparse/coherent",
+                               [](benchmark::State& s) { lookup_sparse(s, fixture3(), true); });
+  benchmark::RegisterBenchmark("BM_VdtLookupGradient3DSparse/random",
+                               [](benchmark::State& s) { lookup_sparse(s, fixture3(), false); });
   benchmark::RegisterBenchmark("BM_VdtLookupGradient2D/coherent_batch", [](benchmark::State& s) {
     lookup_batch<2>(s, fixture2(), true, 1081);
   });

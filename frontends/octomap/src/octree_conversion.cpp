@@ -25,6 +25,33 @@ struct Leaf {
   int size;
 };
 
+/// The occupied leaves and the grid they are voxelized into (OctreeOccupancy's rules).
+struct Lattice {
+  std::vector<Leaf> leaves;
+  int ratio = 1;                ///< tree voxels per grid voxel and axis
+  Eigen::Vector3i first, size;  ///< grid voxel (0,0,0) on the grid lattice; voxels
+  OctreeOccupancy meta;         ///< everything but the occupancy grid
+  GridFrame<3> frame;
+};
+
+Lattice octree_lattice(const octomap::OcTree& tree, const OctreeOccupancyOptions& options,
+                       const OctreeSource& source);
+
+/// Calls f(grid voxel) for every grid voxel overlapping an occupied leaf (repeats possible).
+template <typename F>
+void for_each_occupied(const Lattice& l, F&& f) {
+  for (const Leaf& leaf : l.leaves) {
+    Eigen::Vector3i a, b;
+    for (int d = 0; d < 3; ++d) {
+      a[d] = floor_div(leaf.lo[d], l.ratio) - l.first[d];
+      b[d] = floor_div(leaf.lo[d] + leaf.size - 1, l.ratio) - l.first[d];
+    }
+    for (int z = a.z(); z <= b.z(); ++z)
+      for (int y = a.y(); y <= b.y(); ++y)
+        for (int x = a.x(); x <= b.x(); ++x) f(Eigen::Vector3i(x, y, z));
+  }
+}
+
 }  // namespace
 
 void check_octree_options(const OctreeOccupancyOptions& options, const OctreeSource& source) {
@@ -42,8 +69,10 @@ void check_octree_options(const OctreeOccupancyOptions& options, const OctreeSou
   }
 }
 
-OctreeOccupancy voxelize_octree(const octomap::OcTree& tree, const OctreeOccupancyOptions& options,
-                                const OctreeSource& source) {
+namespace {
+
+Lattice octree_lattice(const octomap::OcTree& tree, const OctreeOccupancyOptions& options,
+                       const OctreeSource& source) {
   check_octree_options(options, source);
   const double tree_res = tree.getResolution();
   // Grid voxels are `ratio` tree voxels per axis.
@@ -83,7 +112,9 @@ OctreeOccupancy voxelize_octree(const octomap::OcTree& tree, const OctreeOccupan
     throw ConfigError(source.name + ": " + what);
   }
 
-  OctreeOccupancy out;
+  Lattice l;
+  l.ratio = ratio;
+  OctreeOccupancy& out = l.meta;
   out.tree_resolution = tree_res;
   out.num_occupied_leaves = leaves.size();
   out.min_point = kmin.cast<double>() * tree_res;
@@ -110,26 +141,43 @@ OctreeOccupancy voxelize_octree(const octomap::OcTree& tree, const OctreeOccupan
     first[d] = lo - static_cast<int>(margin_voxels);
     size[d] = static_cast<int>(n);
   }
-  out.occupancy = OccupancyGrid<3>(size, GridFrame<3>(res, first.cast<double>() * res), 0);
+  l.first = first;
+  l.size = size;
+  l.frame = GridFrame<3>(res, first.cast<double>() * res);
+  l.leaves = std::move(leaves);
+  return l;
+}
 
-  // Every grid voxel overlapping an occupied leaf.
+}  // namespace
+
+OctreeOccupancy voxelize_octree(const octomap::OcTree& tree, const OctreeOccupancyOptions& options,
+                                const OctreeSource& source) {
+  Lattice l = octree_lattice(tree, options, source);
+  OctreeOccupancy out = std::move(l.meta);
+  out.occupancy = OccupancyGrid<3>(l.size, l.frame, 0);
   OccupancyGrid<3>& grid = out.occupancy;
-  for (const Leaf& leaf : leaves) {
-    Eigen::Vector3i a, b;
-    for (int d = 0; d < 3; ++d) {
-      a[d] = floor_div(leaf.lo[d], ratio) - first[d];
-      b[d] = floor_div(leaf.lo[d] + leaf.size - 1, ratio) - first[d];
-    }
-    for (int z = a.z(); z <= b.z(); ++z)
-      for (int y = a.y(); y <= b.y(); ++y) {
-        std::uint8_t* row = &grid(Eigen::Vector3i(0, y, z));
-        for (int x = a.x(); x <= b.x(); ++x) {
-          out.num_occupied += (row[x] == 0);
-          row[x] = 1;
-        }
-      }
-  }
+  for_each_occupied(l, [&](const Eigen::Vector3i& v) {
+    std::uint8_t& cell = grid(v);
+    out.num_occupied += (cell == 0);
+    cell = 1;
+  });
   return out;
+}
+
+SparseVdtMap3 sparse_map_of_octree(const octomap::OcTree& tree,
+                                   const OctreeOccupancyOptions& options,
+                                   const SparseVdtMapOptions& map_options,
+                                   const OctreeSource& source) {
+  const Lattice l = octree_lattice(tree, options, source);
+  std::vector<Eigen::Vector3i> occupied;  // repeats only where coarse voxels merge leaves
+  for_each_occupied(l, [&](const Eigen::Vector3i& v) { occupied.push_back(v); });
+  if ((l.size.array() < 4).any()) {
+    std::ostringstream s;
+    s << source.name << ": the occupied leaves span " << l.size.transpose()
+      << " voxels; a sparse map needs >= 4 per axis (add a margin)";
+    throw ConfigError(s.str());
+  }
+  return SparseVdtMap3::build(occupied, l.frame, l.size, map_options);
 }
 
 }  // namespace detail
@@ -141,6 +189,13 @@ OctreeOccupancy occupancy_from_octree(const octomap::OcTree& tree,
 
 VdtMap3 vdt_map_from_octree(const octomap::OcTree& tree, const OctreeOccupancyOptions& options) {
   return VdtMap3::build(occupancy_from_octree(tree, options).occupancy);
+}
+
+SparseVdtMap3 sparse_vdt_map_from_octree(const octomap::OcTree& tree,
+                                         const OctreeOccupancyOptions& options,
+                                         const SparseVdtMapOptions& map_options) {
+  return detail::sparse_map_of_octree(tree, options, map_options,
+                                      {"sparse_vdt_map_from_octree", false});
 }
 
 }  // namespace vdtnav

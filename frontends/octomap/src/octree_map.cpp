@@ -91,4 +91,12 @@ VdtMap3 load_octree_map(const std::string& path, const OctreeOccupancyOptions& o
   return VdtMap3::build(load_octree_occupancy(path, options).occupancy);
 }
 
+SparseVdtMap3 load_octree_sparse_map(const std::string& path, const OctreeOccupancyOptions& options,
+                                     const SparseVdtMapOptions& map_options) {
+  const detail::OctreeSource source{path, true};
+  detail::check_octree_options(options, source);
+  const std::unique_ptr<octomap::OcTree> tree = read_tree(path);
+  return detail::sparse_map_of_octree(*tree, options, map_options, source);
+}
+
 }  // namespace vdtnav

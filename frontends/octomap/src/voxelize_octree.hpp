@@ -19,6 +19,12 @@ struct OctreeSource {
 /// Checks the options against nothing but their own domain (the tree is not known yet).
 void check_octree_options(const OctreeOccupancyOptions& options, const OctreeSource& source);
 
+/// The sparse map of the occupied leaves, walked leaf by leaf (no dense grid).
+SparseVdtMap3 sparse_map_of_octree(const octomap::OcTree& tree,
+                                   const OctreeOccupancyOptions& options,
+                                   const SparseVdtMapOptions& map_options,
+                                   const OctreeSource& source);
+
 OctreeOccupancy voxelize_octree(const octomap::OcTree& tree, const OctreeOccupancyOptions& options,
                                 const OctreeSource& source);
 

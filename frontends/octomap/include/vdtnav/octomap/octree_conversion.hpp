@@ -20,4 +20,12 @@ namespace vdtnav {
 [[nodiscard]] VdtMap3 vdt_map_from_octree(const octomap::OcTree& tree,
                                           const OctreeOccupancyOptions& options);
 
+/// \brief The SparseVdtMap3 of a tree's occupied leaves on the grid of occupancy_from_octree(),
+/// built from the leaves directly (no dense grid at full resolution).
+/// \throws ConfigError as occupancy_from_octree(), for bad map options, and when an axis of the
+///         grid has fewer than 4 voxels.
+[[nodiscard]] SparseVdtMap3 sparse_vdt_map_from_octree(const octomap::OcTree& tree,
+                                                       const OctreeOccupancyOptions& options,
+                                                       const SparseVdtMapOptions& map_options = {});
+
 }  // namespace vdtnav

@@ -10,6 +10,7 @@
 #include <Eigen/Core>
 
 #include "vdtnav/map/grid.hpp"
+#include "vdtnav/map/sparse_vdt_map.hpp"
 #include "vdtnav/map/vdt_map.hpp"
 
 namespace vdtnav {
@@ -64,5 +65,13 @@ struct OctreeOccupancy {
 ///         than 2 voxels (a single flat layer with margin 0).
 [[nodiscard]] VdtMap3 load_octree_map(const std::string& path,
                                       const OctreeOccupancyOptions& options);
+
+/// \brief Reads an OctoMap file and builds the SparseVdtMap3 of its occupied leaves, walking the
+/// leaves directly (no dense grid at full resolution); same grid as load_octree_occupancy().
+/// \throws what load_octree_occupancy() throws, and ConfigError for bad map options or an axis
+///         of fewer than 4 voxels.
+[[nodiscard]] SparseVdtMap3 load_octree_sparse_map(const std::string& path,
+                                                   const OctreeOccupancyOptions& options,
+                                                   const SparseVdtMapOptions& map_options = {});
 
 }  // namespace vdtnav
