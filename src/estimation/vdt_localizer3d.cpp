@@ -123,6 +123,12 @@ LocalizationResult3 VdtOptimizationLocalizer3::update(const OdometryStep3& odome
   // 2. Update, and whether the map explains the scan there.
   const VdtSensorModel3& model = optimizer_.sensor_model();
   LocalizationResult3 r = optimizer_.solve(observations, guess);
+  const auto usable = [](const LocalizationResult3& x) {
+    return x.status == LocalizationStatus::kConverged ||
+           x.status == LocalizationStatus::kNotConverged;
+  };
+  // A solve that stopped at its iteration limit goes to the multi-start (which continues it and
+  // tries the starts around the prediction): on CATEC accepting it as it is costs 3x in attitude.
   double explained =
       r.status == LocalizationStatus::kConverged
           ? explained_fraction(model, observations, r.pose, options_.explained_distance)
@@ -131,13 +137,15 @@ LocalizationResult3 VdtOptimizationLocalizer3::update(const OdometryStep3& odome
       lost_scans_ == 0 || (lost_scans_ & (lost_scans_ - 1)) == 0 || lost_scans_ % 16 == 0;
   if (explained < options_.accept_fraction && attempt) {
     MultiStartOptions ms = options_.multi_start;
+    // The attitude grid (~120 subsample solves) only to re-acquire: a tracked scan needs the starts
+    // along the axes at most.
+    if (lost_scans_ == 0) ms.attitude_grid = 0;
     ms.explained_distance = options_.explained_distance;
     ms.accept_fraction = std::max(ms.accept_fraction, options_.accept_fraction);
     LocalizationResult3 m = solve_multi_start(optimizer_, observations, guess, ms);
     const double e =
-        m.status == LocalizationStatus::kConverged || m.status == LocalizationStatus::kNotConverged
-            ? explained_fraction(model, observations, m.pose, options_.explained_distance)
-            : 0.0;
+        usable(m) ? explained_fraction(model, observations, m.pose, options_.explained_distance)
+                  : 0.0;
     m.work.solves += r.work.solves;
     m.iterations += r.iterations;
     if (e > explained) {
@@ -149,9 +157,7 @@ LocalizationResult3 VdtOptimizationLocalizer3::update(const OdometryStep3& odome
     }
   }
   r.explained = explained;
-  const bool accepted = (r.status == LocalizationStatus::kConverged ||
-                         r.status == LocalizationStatus::kNotConverged) &&
-                        r.has_covariance && explained >= options_.accept_fraction;
+  const bool accepted = usable(r) && r.has_covariance && explained >= options_.accept_fraction;
   if (accepted) {
     if (optimizer_.options().four_dof) r.covariance = with_held_attitude(observations, r);
     pose_ = r.pose;
