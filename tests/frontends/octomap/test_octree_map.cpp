@@ -19,6 +19,8 @@
 #include <string>
 #include <vector>
 
+#include "vdtnav/map/sparse_vdt_map.hpp"
+
 namespace vdtnav {
 namespace {
 
@@ -192,6 +194,45 @@ TEST_P(SyntheticOctree, VdtMapDistanceIsTheBruteForceNearestOccupiedVoxel) {
     ++checked;
   }
   EXPECT_EQ(checked, 40);
+}
+
+TEST_P(SyntheticOctree, SparseMapFromTheLeavesMatchesTheDenseMapNearSurfaces) {
+  // load_octree_sparse_map walks the occupied leaves (no dense grid): within its band it must
+  // answer as the dense map of the same file, on the same lattice; beyond, finitely.
+  OctreeOccupancyOptions o;
+  o.margin = 0.5;
+  const VdtMap3 dense = load_octree_map(path(), o);
+  const SparseVdtMap3 sparse = load_octree_sparse_map(path(), o);
+  const OctreeOccupancy occ = load_octree_occupancy(path(), o);
+  EXPECT_EQ(sparse.size(), dense.size());
+  EXPECT_EQ(sparse.frame().origin(), dense.frame().origin());
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  const double band = sparse.band() * sparse.resolution();
+  int near = 0, far = 0;
+  for (int trial = 0; trial < 20000 && (near < 300 || far < 100); ++trial) {
+    Eigen::Vector3d p;
+    for (int d = 0; d < 3; ++d) {
+      const double lo = dense.frame().origin()[d] + dense.resolution();
+      const double hi = dense.frame().origin()[d] + (dense.size()[d] - 1) * dense.resolution();
+      p[d] = lo + (hi - lo) * u(rng);
+    }
+    // Free space only: inside thick obstacles DT_v points to the nearest surface voxel.
+    if (occ.occupancy(occ.occupancy.cell_of(p)) != 0) continue;
+    const VdtSample<3> a = dense.evaluate(p);
+    const VdtSample<3> b = sparse.evaluate(p);
+    ASSERT_TRUE(b.value.allFinite() && b.jacobian.allFinite());
+    const double distance = dense.nearest_point_query(p).value.norm();
+    if (distance < band - 0.5 * dense.resolution()) {
+      EXPECT_LT((a.value - b.value).norm(), 2e-5) << p.transpose();
+      EXPECT_LT((a.jacobian - b.jacobian).norm(), 5e-4) << p.transpose();
+      ++near;
+    } else if (distance > band + dense.resolution()) {
+      ++far;  // the coarse level's answers are tested in tests/map/test_sparse_vdt_map.cpp
+    }
+  }
+  EXPECT_GE(near, 300);
+  EXPECT_GE(far, 100);
 }
 
 TEST_P(SyntheticOctree, InMemoryTreeGivesTheSameGrid) {
