@@ -153,7 +153,9 @@ pcl::PCLPointCloud2 read_vtk_cloud(const std::string& path) {
     }
     const std::size_t count = static_cast<std::size_t>(n);
     std::vector<double> xyz;
-    xyz.reserve(3 * count);
+    // Grown as the coordinates come: a header may declare far more points than the file holds
+    // (fuzzing: "POINTS 908204548" in a 140-byte file asked for 22 GB up front).
+    xyz.reserve(std::min<std::size_t>(3 * count, std::size_t{3} << 20));
     while (xyz.size() < 3 * count && next()) {
       split_fields(line, fields);
       for (std::string_view f : fields) {

@@ -7,6 +7,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <string>
 
 #include "vdtnav/core/error.hpp"
@@ -99,6 +100,18 @@ TEST(PointCloudFile, SaysWhichFileAndLineAndWhatWasExpected) {
   EXPECT_NE(error_of([&] { (void)read_point_cloud(unknown); }).find("unknown point cloud format"),
             std::string::npos);
   EXPECT_THROW((void)read_point_cloud(tmp_file("", "") + "/missing.pcd"), IoError);
+}
+
+TEST(PointCloudFile, AHeaderDeclaringMorePointsThanTheFileHoldsAllocatesNothingUpFront) {
+  // A fuzzing finding: "POINTS 908204548" in a 140-byte VTK file reserved 22 GB. The input is the
+  // fuzz target's (first byte: the format), kept in fuzz/regressions.
+  std::ifstream in(std::string(VDTNAV_FUZZ_REGRESSIONS) + "/point_cloud-vtk-huge-count.fuzz",
+                   std::ios::binary);
+  ASSERT_TRUE(in);
+  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  ASSERT_EQ(bytes[0], 2);  // .vtk
+  const std::string path = tmp_file("huge.vtk", bytes.substr(1));
+  EXPECT_THROW((void)read_point_cloud(path), FormatError);
 }
 
 TEST(PointCloudFile, ReadsLibpointmatchersRealScans) {
