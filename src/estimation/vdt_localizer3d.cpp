@@ -59,29 +59,27 @@ std::string VdtOptimizationLocalizer3::name() const {
 
 Matrix6d VdtOptimizationLocalizer3::with_held_attitude(const ObservationSet3& observations,
                                                        const LocalizationResult3& r) const {
-  // The scan's 6-DOF information at the solution, Lambda = Sigma_6^-1, over its inliers.
-  std::vector<char> inliers(observations.size(), 0);
-  const VdtSensorModel3& model = full_.sensor_model();
-  for (std::size_t i = 0; i < observations.size(); ++i) {
-    bool inlier = false;
-    (void)model.disparity_value(r.pose.linear(), r.pose.translation(), observations.points[i],
-                                &inlier);
-    inliers[i] = inlier ? 1 : 0;
-  }
-  Matrix6d sigma6;
+  // The cost's 6-DOF Gauss-Newton Hessian at the solution, H = sum_i J_i^T J_i over the inliers
+  // (J_i = dd_i/dX): the solve zeroes the free gradient, so a held error dtheta_h moves the free
+  // components by S dtheta_h with S = -H_ff^-1 H_fh.
+  std::vector<BeamDisparity3> d;
+  full_.sensor_model().disparities(r.pose.linear(), r.pose.translation(), observations, nullptr, &d,
+                                   DisparityParts::kPose);
+  Matrix6d hessian = Matrix6d::Zero();
+  for (const BeamDisparity3& b : d)
+    if (b.inlier) hessian.noalias() += b.d_pose.transpose() * b.d_pose;
   Matrix6d out = r.covariance;
   const double s2 = options_.sigma_imu_attitude * options_.sigma_imu_attitude;
   const int f[4] = {0, 1, 2, 5}, h[2] = {3, 4};
-  if (full_.covariance(observations, r.pose, inliers, &sigma6)) {
-    const Matrix6d lambda = sigma6.ldlt().solve(Matrix6d::Identity());
-    Eigen::Matrix4d lff;
-    Eigen::Matrix<double, 4, 2> lfh;
-    for (int i = 0; i < 4; ++i) {
-      for (int j = 0; j < 4; ++j) lff(i, j) = lambda(f[i], f[j]);
-      for (int j = 0; j < 2; ++j) lfh(i, j) = lambda(f[i], h[j]);
-    }
-    // x_f - x_f* = S (theta_held - theta), S = -Lambda_ff^-1 Lambda_fh (conditional mean).
-    const Eigen::Matrix<double, 4, 2> sens = -lff.ldlt().solve(lfh);
+  Eigen::Matrix4d hff;
+  Eigen::Matrix<double, 4, 2> hfh;
+  for (int i = 0; i < 4; ++i) {
+    for (int j = 0; j < 4; ++j) hff(i, j) = hessian(f[i], f[j]);
+    for (int j = 0; j < 2; ++j) hfh(i, j) = hessian(f[i], h[j]);
+  }
+  const Eigen::LDLT<Eigen::Matrix4d> ldlt(hff);
+  if (ldlt.info() == Eigen::Success && ldlt.isPositive()) {
+    const Eigen::Matrix<double, 4, 2> sens = -ldlt.solve(hfh);
     const Eigen::Matrix4d add = s2 * sens * sens.transpose();
     const Eigen::Matrix<double, 4, 2> cross = s2 * sens;
     for (int i = 0; i < 4; ++i) {

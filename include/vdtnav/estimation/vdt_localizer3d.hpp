@@ -18,8 +18,8 @@
 ///
 /// 4-DOF mode: roll and pitch are held at the IMU's (or the prediction's), so their error goes
 /// into x, y, z and yaw through the scan: the reported 6 x 6 covariance is that of the 4-DOF solve
-/// plus S Sigma_rp S^T, S = -Lambda_ff^-1 Lambda_fr the sensitivity of the free components to the
-/// held ones (Lambda the scan's 6-DOF information at the solution), with Sigma_rp the IMU's
+/// plus S Sigma_rp S^T, S = -H_ff^-1 H_fr the sensitivity of the free components to the held ones
+/// (H the cost's 6-DOF Gauss-Newton Hessian at the solution), with Sigma_rp the IMU's
 /// variance in the roll/pitch rows: every component has an honest variance (eval::nees works).
 
 #include <string>
@@ -90,7 +90,7 @@ class VdtOptimizationLocalizer3 final : public Localizer3D {
 
   VdtLocalizer3Options options_;
   VdtOptimizer3 optimizer_;
-  VdtOptimizer3 full_;  ///< the 6-DOF twin (shared pyramid) for the 4-DOF mode's sensitivities
+  VdtOptimizer3 full_;  ///< the 6-DOF twin (shared pyramid): its sensor model gives the Hessian
   LostDetector lost_;
   int lost_scans_ = 0;  ///< consecutive scans reported lost (multi-start on 1, 2, 4, 8, then 16s)
   Pose3 pose_ = Pose3::Identity();
