@@ -18,6 +18,7 @@
 #include "vdtnav/estimation/localizer_config.hpp"
 #include "vdtnav/estimation/localizer_factory.hpp"
 #include "vdtnav/estimation/multi_start.hpp"
+#include "vdtnav/estimation/vdt_localizer3d.hpp"
 #include "vdtnav/estimation/vdt_optimizer.hpp"
 #include "vdtnav/io/tum_trajectory.hpp"
 #include "vdtnav/pcl/cloud_observations.hpp"
@@ -187,6 +188,16 @@ void run_localize3d(const Localize3dArgs& a) {
   ms.enabled = a.multi_start;
   ms.attitude_grid = 2;  // from an identity guess 10-15 degrees off (libpointmatcher's car pair)
 
+  // The scans after the first go to the sequential 3D localizer (vdt_localizer3d.hpp): its
+  // prediction is the last pose moved by the last motion (constant velocity, given as the
+  // odometry), its acceptance and lost detection use the same explained fraction.
+  VdtLocalizer3Options lo;
+  lo.optimizer = opt;
+  lo.accept_fraction = a.min_explained;
+  lo.explained_distance = ms.explained_distance;
+  lo.multi_start = ms;
+  lo.lost.lost_fraction = std::min(lo.lost.lost_fraction, a.min_explained);
+  VdtOptimizationLocalizer3 tracker(optimizer, lo);
   std::vector<StampedPose3> trajectory;
   Pose3 last = init, before_last = init;
   std::size_t accepted = 0, refused = 0;
@@ -199,21 +210,26 @@ void run_localize3d(const Localize3dArgs& a) {
     const auto t1 = std::chrono::steady_clock::now();
     r.cloud_points = cloud.size();
     r.readings = obs.size();
-    // The guess: --init for the first scan, then the last accepted pose moved by the last
-    // accepted motion (constant velocity).
-    const Pose3 guess = accepted >= 2 ? last * (before_last.inverse() * last) : last;
-    r.result =
-        a.multi_start ? solve_multi_start(optimizer, obs, guess, ms) : optimizer.solve(obs, guess);
-    r.explained =
-        explained_fraction(optimizer.sensor_model(), obs, r.result.pose, ms.explained_distance);
+    if (accepted == 0) {  // from --init (or the prediction while nothing was accepted)
+      r.result =
+          a.multi_start ? solve_multi_start(optimizer, obs, last, ms) : optimizer.solve(obs, last);
+      r.explained =
+          explained_fraction(optimizer.sensor_model(), obs, r.result.pose, ms.explained_distance);
+      if (r.result.status == LocalizationStatus::kConverged && r.explained < a.min_explained)
+        r.result.status = LocalizationStatus::kRefused;  // converged, not on this map's surfaces
+      r.result.explained = r.explained;
+      if (r.result.status == LocalizationStatus::kConverged)
+        tracker.reset(r.result.pose, r.result.covariance);
+    } else {
+      OdometryStep3 motion;  // constant velocity
+      motion.delta = before_last.inverse() * last;
+      r.result = tracker.update(motion, obs);
+      r.explained = r.result.explained;
+    }
     const auto t2 = std::chrono::steady_clock::now();
     r.read_ms = std::chrono::duration<double, std::milli>(t1 - t0).count();
     r.solve_ms = std::chrono::duration<double, std::milli>(t2 - t1).count();
-    if (r.result.status == LocalizationStatus::kConverged && r.explained < a.min_explained)
-      r.result.status = LocalizationStatus::kRefused;  // converged, but not on this map's surfaces
-    const bool ok = r.result.status == LocalizationStatus::kConverged;
-    r.result.explained = r.explained;
-    if (ok) {
+    if (r.result.status == LocalizationStatus::kConverged) {
       before_last = accepted == 0 ? r.result.pose : last;
       last = r.result.pose;
       ++accepted;
