@@ -12,8 +12,14 @@ ctest --test-dir build/release --output-on-failure -j "$jobs"
 
 echo "== [2/4] ASan + UBSan build and tests"
 scripts/setup.sh asan
+# Under the sanitizers the long simulations run 10-20x slower: the Monte Carlo calibrations, the
+# kidnapped-robot drives, the occupancy mapping of a whole run, the exhaustive global search and
+# the 3D teleport (about half of this phase's test time: 270 of 530 CPU seconds) are left to the
+# Release run above; their code paths run here through the shorter tests of the same classes.
+asan_skip='BuildOccupancyMap\.ReproducesTheSimulatorsFloorPlan|Covariance\..*MonteCarlo'
+asan_skip+='|Kidnapped\.|VdtLocalizer3\.ATeleport|GlobalLocalization\.BestLeafIsTheExhaustive'
 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
-  ctest --test-dir build/asan --output-on-failure -j "$jobs"
+  ctest --test-dir build/asan --output-on-failure -j "$jobs" -E "$asan_skip"
 
 echo "== [3/4] Benchmarks, smoke mode (one short run each; numbers are not meaningful here)"
 for b in build/release/bench/bench_*; do
