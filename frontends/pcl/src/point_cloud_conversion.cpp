@@ -19,4 +19,18 @@ VdtMap3 vdt_map_from_point_cloud(const pcl::PointCloud<pcl::PointXYZ>& cloud,
   return VdtMap3::build(occupancy_from_point_cloud(cloud, options).occupancy);
 }
 
+SparseVdtMap3 sparse_vdt_map_from_point_cloud(const pcl::PointCloud<pcl::PointXYZ>& cloud,
+                                              const PointCloudOccupancyOptions& options,
+                                              const SparseVdtMapOptions& map_options) {
+  const auto point_at = [&](std::size_t k) {
+    const pcl::PointXYZ& p = cloud.points[k];
+    return Eigen::Vector3d(p.x, p.y, p.z);
+  };
+  const detail::PointSource source{"sparse_vdt_map_from_point_cloud", false};
+  const detail::CloudLattice l =
+      detail::cloud_lattice(cloud.size(), point_at, options, source, 1e12);
+  return SparseVdtMap3::build(detail::occupied_voxels(cloud.size(), point_at, l), l.frame, l.size,
+                              map_options);
+}
+
 }  // namespace vdtnav

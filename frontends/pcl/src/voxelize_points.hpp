@@ -2,12 +2,15 @@
 // Internal: the voxelization shared by the file and the in-memory paths. Two passes over the
 // points through an accessor (bounding box, then fill), so no cloud is copied into Eigen vectors.
 
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <limits>
 #include <sstream>
 #include <string>
+#include <tuple>
+#include <vector>
 
 #include <Eigen/Core>
 
@@ -44,68 +47,110 @@ inline void check_options(const PointCloudOccupancyOptions& options, const Point
   }
 }
 
+/// The lattice a cloud is voxelized on (pass 1 over the points): the bounding box of the finite
+/// points grown by the margin, origin snapped down to a multiple of the resolution
+/// (occupancy_from_points' rule).
+struct CloudLattice {
+  GridFrame<3> frame;
+  Eigen::Vector3i size = Eigen::Vector3i::Zero();
+  double cells = 0.0;  ///< voxels of the box
+  std::size_t num_dropped = 0;
+  Eigen::Vector3d lo, hi;  ///< bounding box of the finite points
+};
+
+/// \param n        number of points.
+/// \param point_at point_at(i) -> Eigen::Vector3d, i < n (may be non-finite).
+/// \param max_cells the largest box accepted (the dense grid's 2^31; a sparse map's more).
+template <typename PointAt>
+CloudLattice cloud_lattice(std::size_t n, const PointAt& point_at,
+                           const PointCloudOccupancyOptions& options, const PointSource& source,
+                           double max_cells) {
+  check_options(options, source);
+  if (n == 0) source.content_error("the cloud has no points");
+  CloudLattice l;
+  l.lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
+  l.hi = -l.lo;
+  for (std::size_t k = 0; k < n; ++k) {
+    const Eigen::Vector3d p = point_at(k);
+    if (!p.allFinite()) {
+      ++l.num_dropped;
+      continue;
+    }
+    l.lo = l.lo.cwiseMin(p);
+    l.hi = l.hi.cwiseMax(p);
+  }
+  if (l.num_dropped == n) {
+    source.content_error("none of its " + std::to_string(n) +
+                         " points has finite coordinates (all are NaN or infinite)");
+  }
+  const double res = options.resolution;
+  Eigen::Vector3d origin;
+  l.cells = 1.0;
+  for (int d = 0; d < 3; ++d) {
+    origin[d] = std::floor((l.lo[d] - options.margin) / res) * res;
+    const double cells_d = std::floor((l.hi[d] + options.margin - origin[d]) / res) + 1.0;
+    l.cells *= cells_d;
+    if (!(cells_d >= 1.0 && cells_d < 2147483648.0 && l.cells < max_cells)) {
+      std::ostringstream s;
+      s << "the cloud's extent (" << (l.hi - l.lo).transpose()
+        << " m) plus the margin at resolution " << res << " m gives " << l.cells
+        << " voxels or more (at most " << max_cells << "); use a coarser resolution"
+        << (max_cells <= 2147483648.0 ? ", --crop, or a sparse map" : " or --crop");
+      source.config_error(s.str());
+    }
+    l.size[d] = static_cast<int>(cells_d);
+  }
+  l.frame = GridFrame<3>(res, origin);
+  return l;
+}
+
+/// The voxel of a point of the cloud (the clamp only absorbs rounding at the outer faces).
+inline Eigen::Vector3i voxel_of(const CloudLattice& l, const Eigen::Vector3d& p) {
+  return l.frame.cell_of(p)
+      .cwiseMax(Eigen::Vector3i::Zero())
+      .cwiseMin(l.size - Eigen::Vector3i::Ones());
+}
+
 /// \param n        number of points.
 /// \param point_at point_at(i) -> Eigen::Vector3d, i < n (may be non-finite).
 template <typename PointAt>
 PointCloudOccupancy voxelize_points(std::size_t n, const PointAt& point_at,
                                     const PointCloudOccupancyOptions& options,
                                     const PointSource& source) {
-  check_options(options, source);
+  const CloudLattice l = cloud_lattice(n, point_at, options, source, 2147483648.0);
   PointCloudOccupancy out;
   out.num_points = n;
-  if (n == 0) source.content_error("the cloud has no points");
-
-  // Pass 1: bounding box of the finite points.
-  Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
-  Eigen::Vector3d hi = -lo;
-  for (std::size_t k = 0; k < n; ++k) {
-    const Eigen::Vector3d p = point_at(k);
-    if (!p.allFinite()) {
-      ++out.num_dropped;
-      continue;
-    }
-    lo = lo.cwiseMin(p);
-    hi = hi.cwiseMax(p);
-  }
-  if (out.num_dropped == n) {
-    source.content_error("none of its " + std::to_string(n) +
-                         " points has finite coordinates (all are NaN or infinite)");
-  }
-  out.min_point = lo;
-  out.max_point = hi;
-
-  // The grid: origin snapped down to a multiple of the resolution (occupancy_from_points' rule).
-  const double res = options.resolution;
-  Eigen::Vector3d origin;
-  Eigen::Vector3i size;
-  double cells = 1.0;
-  for (int d = 0; d < 3; ++d) {
-    origin[d] = std::floor((lo[d] - options.margin) / res) * res;
-    const double cells_d = std::floor((hi[d] + options.margin - origin[d]) / res) + 1.0;
-    cells *= cells_d;
-    if (!(cells_d >= 1.0 && cells < 2147483648.0)) {
-      std::ostringstream s;
-      s << "the cloud's extent (" << (hi - lo).transpose() << " m) plus the margin at resolution "
-        << res << " m gives 2^31 voxels or more; use a coarser resolution";
-      source.config_error(s.str());
-    }
-    size[d] = static_cast<int>(cells_d);
-  }
-  out.occupancy = OccupancyGrid<3>(size, GridFrame<3>(res, origin), 0);
-
+  out.num_dropped = l.num_dropped;
+  out.min_point = l.lo;
+  out.max_point = l.hi;
+  out.occupancy = OccupancyGrid<3>(l.size, l.frame, 0);
   // Pass 2: occupy every voxel that contains a finite point.
   for (std::size_t k = 0; k < n; ++k) {
     const Eigen::Vector3d p = point_at(k);
     if (!p.allFinite()) continue;
-    // Every point lies inside the grid; the clamp only absorbs rounding at the outer faces.
-    const Eigen::Vector3i i = out.occupancy.cell_of(p)
-                                  .cwiseMax(Eigen::Vector3i::Zero())
-                                  .cwiseMin(size - Eigen::Vector3i::Ones());
-    std::uint8_t& v = out.occupancy(i);
+    std::uint8_t& v = out.occupancy(voxel_of(l, p));
     out.num_occupied += (v == 0);
     v = 1;
   }
   return out;
+}
+
+/// The occupied voxels of a cloud as a list (no dense grid): for sparse maps.
+template <typename PointAt>
+std::vector<Eigen::Vector3i> occupied_voxels(std::size_t n, const PointAt& point_at,
+                                             const CloudLattice& l) {
+  std::vector<Eigen::Vector3i> v;
+  v.reserve(n);
+  for (std::size_t k = 0; k < n; ++k) {
+    const Eigen::Vector3d p = point_at(k);
+    if (p.allFinite()) v.push_back(voxel_of(l, p));
+  }
+  const auto less = [](const Eigen::Vector3i& a, const Eigen::Vector3i& b) {
+    return std::tie(a.z(), a.y(), a.x()) < std::tie(b.z(), b.y(), b.x());
+  };
+  std::sort(v.begin(), v.end(), less);
+  v.erase(std::unique(v.begin(), v.end()), v.end());
+  return v;
 }
 
 }  // namespace vdtnav::detail

@@ -258,6 +258,53 @@ void expect_error_naming(F f, const std::string& file, const char* what) {
   }
 }
 
+TEST(PointCloudMap, SparseMapFromTheCloudMatchesTheDenseMapNearItsSurfaces) {
+  // The occupied voxels as a list, no dense grid: within the band the sparse map answers as the
+  // dense map of the same cloud on the same lattice (file and memory alike).
+  const Cloud cloud = two_planes();
+  PointCloudOccupancyOptions o;
+  o.resolution = kRes;
+  o.margin = 0.5;
+  const VdtMap3 dense = vdt_map_from_point_cloud(cloud, o);
+  const SparseVdtMap3 sparse = sparse_vdt_map_from_point_cloud(cloud, o);
+  const std::string path = tmp_path("sparse.pcd");
+  ASSERT_EQ(pcl::io::savePCDFileBinary(path, cloud), 0);
+  const SparseVdtMap3 from_file = load_point_cloud_sparse_map(path, o);
+  ASSERT_EQ(sparse.size(), dense.size());
+  ASSERT_EQ(sparse.frame().origin(), dense.frame().origin());
+  std::mt19937 rng(5);
+  int near = 0;
+  for (int trial = 0; trial < 5000 && near < 300; ++trial) {
+    Eigen::Vector3d p;
+    for (int d = 0; d < 3; ++d)
+      p[d] = dense.frame().origin()[d] +
+             std::uniform_real_distribution<double>(1.0, dense.size()[d] - 1.0)(rng) * kRes;
+    if (dense.nearest_point_query(p).value.norm() > (sparse.band() - 0.5) * kRes) continue;
+    const VdtSample<3> a = dense.evaluate(p), b = sparse.evaluate(p), c = from_file.evaluate(p);
+    EXPECT_LT((a.value - b.value).norm(), 2e-5) << p.transpose();
+    EXPECT_LT((a.jacobian - b.jacobian).norm(), 5e-4) << p.transpose();
+    EXPECT_EQ(b.value, c.value);
+    ++near;
+  }
+  EXPECT_EQ(near, 300);
+}
+
+TEST(PointCloudMap, ASparseMapTakesABoxTheDenseGridRefuses) {
+  // 150 m apart on every axis at 0.1 m: 3.4e9 voxels, past the dense grid's 2^31.
+  Cloud cloud;
+  cloud.push_back(pcl::PointXYZ(0.05f, 0.05f, 0.05f));
+  cloud.push_back(pcl::PointXYZ(150.05f, 150.05f, 150.05f));
+  PointCloudOccupancyOptions o;
+  o.resolution = 0.1;
+  EXPECT_THROW((void)occupancy_from_point_cloud(cloud, o), ConfigError);
+  const SparseVdtMap3 sparse = sparse_vdt_map_from_point_cloud(cloud, o);
+  EXPECT_GT(sparse.size().cast<double>().prod(), 2147483648.0);
+  // Next to each point, DT_v points back to it.
+  const VdtSample<3> s = sparse.evaluate(Eigen::Vector3d(0.25, 0.05, 0.05));
+  EXPECT_NEAR(s.value.x(), 0.2, 1e-4);
+  EXPECT_NEAR(s.value.tail<2>().norm(), 0.0, 1e-4);
+}
+
 TEST(PointCloudMapErrors, BadFilesNameTheFile) {
   const PointCloudOccupancyOptions o;
   const auto load = [&](const std::string& p) {

@@ -22,4 +22,9 @@ namespace vdtnav {
 [[nodiscard]] VdtMap3 vdt_map_from_point_cloud(const pcl::PointCloud<pcl::PointXYZ>& cloud,
                                                const PointCloudOccupancyOptions& options);
 
+/// \brief load_point_cloud_sparse_map() for a cloud in memory.
+[[nodiscard]] SparseVdtMap3 sparse_vdt_map_from_point_cloud(
+    const pcl::PointCloud<pcl::PointXYZ>& cloud, const PointCloudOccupancyOptions& options,
+    const SparseVdtMapOptions& map_options = {});
+
 }  // namespace vdtnav

@@ -10,6 +10,7 @@
 #include <Eigen/Core>
 
 #include "vdtnav/map/grid.hpp"
+#include "vdtnav/map/sparse_vdt_map.hpp"
 #include "vdtnav/map/vdt_map.hpp"
 
 namespace vdtnav {
@@ -56,5 +57,14 @@ struct PointCloudOccupancy {
 ///         fewer than 2 voxels (a planar cloud with margin 0).
 [[nodiscard]] VdtMap3 load_point_cloud_map(const std::string& path,
                                            const PointCloudOccupancyOptions& options);
+
+/// \brief A sparse VDT map of a point cloud file (sparse_vdt_map.hpp): the occupied voxels of
+/// the same lattice as load_point_cloud_occupancy(), collected as a list, never as a dense grid,
+/// so the box may exceed 2^31 voxels (up to 10^12).
+/// \throws what load_point_cloud_occupancy() throws (but the 2^31 limit), and ConfigError for bad
+///         map options or an axis of fewer than 4 voxels.
+[[nodiscard]] SparseVdtMap3 load_point_cloud_sparse_map(
+    const std::string& path, const PointCloudOccupancyOptions& options,
+    const SparseVdtMapOptions& map_options = {});
 
 }  // namespace vdtnav
