@@ -139,6 +139,20 @@ void support_sum(const float* c0, std::ptrdiff_t row_stride, std::ptrdiff_t plan
   }
 }
 
+/// Clamps a continuous index to the node hull [0, n-1] (NaN -> 0, which std::clamp would pass
+/// through to an integer conversion). \return whether u was inside, as CubicBSplineField::clamp.
+bool clamp_to_hull(const Index& size, Eigen::Vector3d* u) {
+  constexpr double kHullTolerance = 1e-9;  // as CubicBSplineField::clamp
+  bool inside = true;
+  for (int d = 0; d < 3; ++d) {
+    const double x = (*u)[d], hi = size[d] - 1.0;
+    inside &= (x >= -kHullTolerance) & (x <= hi + kHullTolerance);  // false for NaN
+    const double lo_clamped = x >= 0.0 ? x : 0.0;                   // NaN -> 0
+    (*u)[d] = lo_clamped <= hi ? lo_clamped : hi;
+  }
+  return inside;
+}
+
 std::size_t brick_linear(const Index& b, const Index& bricks) {
   return (static_cast<std::size_t>(b.z()) * bricks.y() + b.y()) * bricks.x() + b.x();
 }
@@ -489,16 +503,9 @@ SparseVdtMap3::Index SparseVdtMap3::coarse_nearest(const Vector& u) const {
 }
 
 VdtSample<3> SparseVdtMap3::evaluate_one(const Vector& p, bool jacobian) const {
-  constexpr double kHullTolerance = 1e-9;  // as CubicBSplineField::clamp
   VdtSample<3> s;
   Vector u = frame_.continuous_index(p);
-  bool inside = true;
-  for (int d = 0; d < 3; ++d) {
-    const double x = u[d], hi = size_[d] - 1.0;
-    inside &= (x >= -kHullTolerance) & (x <= hi + kHullTolerance);  // false for NaN
-    const double lo_clamped = x >= 0.0 ? x : 0.0;                   // NaN -> 0
-    u[d] = lo_clamped <= hi ? lo_clamped : hi;
-  }
+  const bool inside = clamp_to_hull(size_, &u);
   if (evaluate_fine(u, &s.value, jacobian ? &s.jacobian : nullptr)) {
     // Grid axes per unit index -> world axes per metre (as VdtMap::to_world).
     s.jacobian *= frame_.inv_resolution();
@@ -523,7 +530,7 @@ void SparseVdtMap3::evaluate(const Vector* p, std::size_t n, VdtSample<3>* out,
 
 bool SparseVdtMap3::fine_level(const Vector& p) const {
   Vector u = frame_.continuous_index(p);
-  for (int d = 0; d < 3; ++d) u[d] = std::clamp(u[d], 0.0, size_[d] - 1.0);
+  (void)clamp_to_hull(size_, &u);
   Vector v;
   return evaluate_fine(u, &v, nullptr);
 }
