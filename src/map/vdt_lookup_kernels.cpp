@@ -9,7 +9,8 @@
 // p = sum_j wy_j row_j (and its y derivative), over planes a = sum_k wz_k p (and the z
 // derivatives), x reduced last with the node weights spread over the lanes of a row (node l =
 // lane / channels). The Jacobian leaves in world units (times 1 / resolution); maps rotated in
-// the world take the portable path.
+// the world take the portable path. The 3D kernel is written as Locator3, support_weights
+// and sum_support over rows addressed by a functor (StridedRows), for lattices laid out otherwise.
 #include "vdt_lookup_kernels.hpp"
 
 #include <atomic>
@@ -147,105 +148,113 @@ VDTNAV_AVX2 void lookup_2d_avx2(const VdtMap<2>& map, const Eigen::Vector2d* p, 
   }
 }
 
-template <bool kGradient>
-VDTNAV_AVX2 void lookup_3d_avx2(const VdtMap<3>& map, const Eigen::Vector3d* p, std::size_t n,
-                                VdtSample<3>* out) {
-  const float* coef = map.field().coefficients().data();
-  const Eigen::Vector3i size = map.size();
-  const Eigen::Vector3i padded = size + Eigen::Vector3i::Constant(2);
-  const std::ptrdiff_t row_stride = static_cast<std::ptrdiff_t>(padded.x()) * 3;
-  const std::ptrdiff_t plane_stride = row_stride * padded.y();
-  const __m256i first3 = _mm256_setr_epi64x(-1, -1, -1, 0);
-  const Eigen::Vector3d& o = map.frame().origin();
-  const __m256d origin = _mm256_setr_pd(o.x(), o.y(), o.z(), 0.0);
-  const __m256d inv_res = _mm256_set1_pd(map.frame().inv_resolution());
-  const __m256d half = _mm256_set1_pd(0.5), zero = _mm256_setzero_pd();
-  const __m256d hi = _mm256_setr_pd(size.x() - 1, size.y() - 1, size.z() - 1, 0.0);
-  const __m256d lo_tol = _mm256_set1_pd(-kHullTolerance);
-  const __m256d hi_tol = _mm256_add_pd(hi, _mm256_set1_pd(kHullTolerance));
-  const __m128i last_span = _mm_setr_epi32(size.x() - 2, size.y() - 2, size.z() - 2, 0);
-  const __m256i spread_ab = _mm256_setr_epi32(0, 0, 0, 1, 1, 1, 2, 2);
-  const __m256i spread_c = _mm256_setr_epi32(2, 3, 3, 3, 3, 3, 3, 3);
-  const __m256i xy_halves = _mm256_setr_epi32(0, 0, 0, 0, 1, 1, 1, 1);
-  const __m256i z_lanes = _mm256_set1_epi32(2);
-  const __m128 to_world = _mm_set1_ps(static_cast<float>(map.frame().inv_resolution()));
-  // Point k's continuous index u = (p - origin) / resolution - 1/2, clamped to the node hull
-  // (uc), and the first coefficient of its 4 x 4 x 4 support (its span `base`, u = n-1 in the
-  // last span with t = 1).
+/// A 3D lattice's continuous index of world points (the dense field's nodes or the bricks'):
+/// u = (p - origin) / resolution - 1/2, clamped to the node hull (uc), and its span `base`
+/// (u = n-1 in the last span with t = 1), as CubicBSplineField::clamp and evaluate_impl.
+struct Locator3 {
+  __m256d origin, inv_res, half, zero, hi, lo_tol, hi_tol;
+  __m128i last_span;
+  __m256i first3;
+
   struct Located {
     __m256d u, uc;
     __m128i base;
-    const float* c0;
   };
-  const auto locate = [&](std::size_t k) VDTNAV_AVX2 {
+
+  VDTNAV_AVX2 Locator3(const GridFrame<3>& frame, const Eigen::Vector3i& size) {
+    const Eigen::Vector3d& o = frame.origin();
+    origin = _mm256_setr_pd(o.x(), o.y(), o.z(), 0.0);
+    inv_res = _mm256_set1_pd(frame.inv_resolution());
+    half = _mm256_set1_pd(0.5);
+    zero = _mm256_setzero_pd();
+    hi = _mm256_setr_pd(size.x() - 1, size.y() - 1, size.z() - 1, 0.0);
+    lo_tol = _mm256_set1_pd(-kHullTolerance);
+    hi_tol = _mm256_add_pd(hi, _mm256_set1_pd(kHullTolerance));
+    last_span = _mm_setr_epi32(size.x() - 2, size.y() - 2, size.z() - 2, 0);
+    first3 = _mm256_setr_epi64x(-1, -1, -1, 0);
+  }
+  VDTNAV_AVX2 Located operator()(const Eigen::Vector3d& p) const {
     Located l;
     l.u = _mm256_sub_pd(
-        _mm256_mul_pd(_mm256_sub_pd(_mm256_maskload_pd(p[k].data(), first3), origin), inv_res),
-        half);
+        _mm256_mul_pd(_mm256_sub_pd(_mm256_maskload_pd(p.data(), first3), origin), inv_res), half);
+    // NaN: _mm256_max_pd returns its second operand (node 0).
     l.uc = _mm256_min_pd(_mm256_max_pd(l.u, zero), hi);
     l.base = _mm_min_epi32(_mm256_cvttpd_epi32(l.uc), last_span);
-    l.c0 = coef + ((static_cast<std::ptrdiff_t>(_mm_extract_epi32(l.base, 2)) * padded.y() +
-                    _mm_extract_epi32(l.base, 1)) *
-                       padded.x() +
-                   _mm_cvtsi128_si32(l.base)) *
-                      3;
     return l;
-  };
-  for (std::size_t i = 0; i < n; ++i) {
-    // The support of point i + kPrefetch is requested while point i is summed: 16 rows in 4
-    // planes, mostly not in L1 (scan endpoints hop between walls), whose latency would otherwise
-    // serialise the loop.
-    if (i + kPrefetch < n) {
-      const float* f = locate(i + kPrefetch).c0;
-      for (int k = 0; k < 4; ++k)
-        for (int j = 0; j < 4; ++j) {
-          const char* row = reinterpret_cast<const char*>(f + k * plane_stride + j * row_stride);
-          _mm_prefetch(row, _MM_HINT_T0);
-          _mm_prefetch(row + 44, _MM_HINT_T0);
-        }
-    }
-    const Located l = locate(i);
+  }
+  /// NaN compares false (outside).
+  VDTNAV_AVX2 bool inside(const Located& l) const {
     const __m256d in = _mm256_and_pd(_mm256_cmp_pd(l.u, lo_tol, _CMP_GE_OQ),
                                      _mm256_cmp_pd(l.u, hi_tol, _CMP_LE_OQ));
-    out[i].inside = (_mm256_movemask_pd(in) & 7) == 7;
-    const __m128 t = _mm256_cvtpd_ps(_mm256_sub_pd(l.uc, _mm256_cvtepi32_pd(l.base)));
-    const float* c0 = l.c0;
-    __m256 wxy, dwxy, wz, dwz;
-    const __m256 t8 = _mm256_castps128_ps256(t);
-    spline_weights(_mm256_permutevar8x32_ps(t8, xy_halves), &wxy, &dwxy);
-    spline_weights(_mm256_permutevar8x32_ps(t8, z_lanes), &wz, &dwz);
-    const Lanes lwxy(wxy), ldwxy(dwxy), lwz(wz), ldwz(dwz);
-    __m256 a_ab = _mm256_setzero_ps(), ay_ab = a_ab, az_ab = a_ab;
-    __m128 a_c = _mm_setzero_ps(), ay_c = a_c, az_c = a_c;
-    for (int k = 0; k < 4; ++k) {
-      const float* plane = c0 + k * plane_stride;
-      __m256 p_ab = _mm256_setzero_ps(), py_ab = p_ab;
-      __m128 p_c = _mm_setzero_ps(), py_c = p_c;
-      for (int j = 0; j < 4; ++j) {
-        const float* row = plane + j * row_stride;
-        const __m256 ab = _mm256_loadu_ps(row);  // a row: 4 nodes x 3 channels = 8 + 4 floats
-        const __m128 c = _mm_loadu_ps(row + 8);
-        const __m256 wy = lwxy[4 + j], dwy = ldwxy[4 + j];
-        p_ab = _mm256_fmadd_ps(wy, ab, p_ab);
-        py_ab = _mm256_fmadd_ps(dwy, ab, py_ab);
-        p_c = _mm_fmadd_ps(_mm256_castps256_ps128(wy), c, p_c);
-        py_c = _mm_fmadd_ps(_mm256_castps256_ps128(dwy), c, py_c);
-      }
-      const __m256 wk = lwz[k], dwk = ldwz[k];
-      a_ab = _mm256_fmadd_ps(wk, p_ab, a_ab);
+    return (_mm256_movemask_pd(in) & 7) == 7;
+  }
+  /// The offsets t = uc - base in the span, lanes 0-2.
+  VDTNAV_AVX2 static __m128 offset(const Located& l) {
+    return _mm256_cvtpd_ps(_mm256_sub_pd(l.uc, _mm256_cvtepi32_pd(l.base)));
+  }
+};
+
+/// The weights of a 4 x 4 x 4 support: x in lanes 0-3 and y in lanes 4-7 of xy, z in lanes 0-3
+/// (and 4-7) of z.
+struct Weights3 {
+  __m256 xy, dxy, z, dz;
+};
+
+VDTNAV_AVX2 inline Weights3 support_weights(__m128 t) {
+  const __m256 t8 = _mm256_castps128_ps256(t);
+  Weights3 w;
+  spline_weights(_mm256_permutevar8x32_ps(t8, _mm256_setr_epi32(0, 0, 0, 0, 1, 1, 1, 1)), &w.xy,
+                 &w.dxy);
+  spline_weights(_mm256_permutevar8x32_ps(t8, _mm256_set1_epi32(2)), &w.z, &w.dz);
+  return w;
+}
+
+/// The tensor-product sums of CubicBSplineField::evaluate_impl over a 4 x 4 x 4 support of
+/// 3-channel nodes: per plane p = sum_j wy_j row_j (and its y derivative), over planes
+/// a = sum_k wz_k p (and the z derivatives), x reduced last with the node weights spread over the
+/// lanes of a row. rows(j, k, &ab, &c) loads row j of plane k (4 nodes x 3 channels: lanes 0-7
+/// in ab, 8-11 in c); how rows are addressed is all that differs between the dense lattice and
+/// the bricks. Writes DT_v and, with kGradient, the Jacobian times `to_world` (grid axes).
+template <bool kGradient, typename Rows>
+VDTNAV_AVX2 inline void sum_support(const Rows& rows, const Weights3& w, __m128 to_world,
+                                    VdtSample<3>* out) {
+  const Lanes lwxy(w.xy), ldwxy(w.dxy), lwz(w.z), ldwz(w.dz);
+  __m256 a_ab = _mm256_setzero_ps(), ay_ab = a_ab, az_ab = a_ab;
+  __m128 a_c = _mm_setzero_ps(), ay_c = a_c, az_c = a_c;
+  for (int k = 0; k < 4; ++k) {
+    __m256 p_ab = _mm256_setzero_ps(), py_ab = p_ab;
+    __m128 p_c = _mm_setzero_ps(), py_c = p_c;
+    for (int j = 0; j < 4; ++j) {
+      __m256 ab;
+      __m128 c;
+      rows(j, k, &ab, &c);
+      const __m256 wy = lwxy[4 + j], dwy = ldwxy[4 + j];
+      p_ab = _mm256_fmadd_ps(wy, ab, p_ab);
+      if constexpr (kGradient) py_ab = _mm256_fmadd_ps(dwy, ab, py_ab);
+      p_c = _mm_fmadd_ps(_mm256_castps256_ps128(wy), c, p_c);
+      if constexpr (kGradient) py_c = _mm_fmadd_ps(_mm256_castps256_ps128(dwy), c, py_c);
+    }
+    const __m256 wk = lwz[k], dwk = ldwz[k];
+    a_ab = _mm256_fmadd_ps(wk, p_ab, a_ab);
+    if constexpr (kGradient) {
       ay_ab = _mm256_fmadd_ps(wk, py_ab, ay_ab);
       az_ab = _mm256_fmadd_ps(dwk, p_ab, az_ab);
-      a_c = _mm_fmadd_ps(_mm256_castps256_ps128(wk), p_c, a_c);
+    }
+    a_c = _mm_fmadd_ps(_mm256_castps256_ps128(wk), p_c, a_c);
+    if constexpr (kGradient) {
       ay_c = _mm_fmadd_ps(_mm256_castps256_ps128(wk), py_c, ay_c);
       az_c = _mm_fmadd_ps(_mm256_castps256_ps128(dwk), p_c, az_c);
     }
-    const __m256 ex_ab = _mm256_permutevar8x32_ps(wxy, spread_ab);
-    const __m256 edx_ab = _mm256_permutevar8x32_ps(dwxy, spread_ab);
-    const __m128 ex_c = _mm256_castps256_ps128(_mm256_permutevar8x32_ps(wxy, spread_c));
-    const __m128 edx_c = _mm256_castps256_ps128(_mm256_permutevar8x32_ps(dwxy, spread_c));
-    store3(out[i].value.data(), reduce_3(_mm256_mul_ps(a_ab, ex_ab), _mm_mul_ps(a_c, ex_c)));
-    if constexpr (!kGradient) continue;
-    double* jac = out[i].jacobian.data();  // column-major: column d = d/dp_d of the components
+  }
+  const __m256i spread_ab = _mm256_setr_epi32(0, 0, 0, 1, 1, 1, 2, 2);
+  const __m256i spread_c = _mm256_setr_epi32(2, 3, 3, 3, 3, 3, 3, 3);
+  const __m256 ex_ab = _mm256_permutevar8x32_ps(w.xy, spread_ab);
+  const __m128 ex_c = _mm256_castps256_ps128(_mm256_permutevar8x32_ps(w.xy, spread_c));
+  store3(out->value.data(), reduce_3(_mm256_mul_ps(a_ab, ex_ab), _mm_mul_ps(a_c, ex_c)));
+  if constexpr (kGradient) {
+    const __m256 edx_ab = _mm256_permutevar8x32_ps(w.dxy, spread_ab);
+    const __m128 edx_c = _mm256_castps256_ps128(_mm256_permutevar8x32_ps(w.dxy, spread_c));
+    double* jac = out->jacobian.data();  // column-major: column d = d/dp_d of the components
     store3(jac,
            _mm_mul_ps(reduce_3(_mm256_mul_ps(a_ab, edx_ab), _mm_mul_ps(a_c, edx_c)), to_world));
     store3(jac + 3,
@@ -254,6 +263,61 @@ VDTNAV_AVX2 void lookup_3d_avx2(const VdtMap<3>& map, const Eigen::Vector3d* p, 
            _mm_mul_ps(reduce_3(_mm256_mul_ps(az_ab, ex_ab), _mm_mul_ps(az_c, ex_c)), to_world));
   }
 }
+
+/// Rows at c0 + j row_stride + k plane_stride (floats), each 12 contiguous floats: the dense
+/// lattice, and a support inside one brick.
+struct StridedRows {
+  const float* c0;
+  std::ptrdiff_t row_stride, plane_stride;
+  VDTNAV_AVX2 void operator()(int j, int k, __m256* ab, __m128* c) const {
+    const float* row = c0 + k * plane_stride + j * row_stride;
+    *ab = _mm256_loadu_ps(row);
+    *c = _mm_loadu_ps(row + 8);
+  }
+};
+
+/// Requests the 16 rows of a support (12 floats each) into L1.
+VDTNAV_AVX2 inline void prefetch_support(const float* c0, std::ptrdiff_t row_stride,
+                                         std::ptrdiff_t plane_stride) {
+  for (int k = 0; k < 4; ++k)
+    for (int j = 0; j < 4; ++j) {
+      const char* row = reinterpret_cast<const char*>(c0 + k * plane_stride + j * row_stride);
+      _mm_prefetch(row, _MM_HINT_T0);
+      _mm_prefetch(row + 44, _MM_HINT_T0);
+    }
+}
+
+template <bool kGradient>
+VDTNAV_AVX2 void lookup_3d_avx2(const VdtMap<3>& map, const Eigen::Vector3d* p, std::size_t n,
+                                VdtSample<3>* out) {
+  const float* coef = map.field().coefficients().data();
+  const Eigen::Vector3i padded = map.size() + Eigen::Vector3i::Constant(2);
+  const std::ptrdiff_t row_stride = static_cast<std::ptrdiff_t>(padded.x()) * 3;
+  const std::ptrdiff_t plane_stride = row_stride * padded.y();
+  const Locator3 locate(map.frame(), map.size());
+  const __m128 to_world = _mm_set1_ps(static_cast<float>(map.frame().inv_resolution()));
+  // The first coefficient of a point's 4 x 4 x 4 support (the padded lattice's ghost layer holds
+  // the natural ends: node base - 1 is padded node base).
+  const auto first = [&](const Locator3::Located& l) VDTNAV_AVX2 {
+    return coef + ((static_cast<std::ptrdiff_t>(_mm_extract_epi32(l.base, 2)) * padded.y() +
+                    _mm_extract_epi32(l.base, 1)) *
+                       padded.x() +
+                   _mm_cvtsi128_si32(l.base)) *
+                      3;
+  };
+  for (std::size_t i = 0; i < n; ++i) {
+    // The support of point i + kPrefetch is requested while point i is summed: 16 rows in 4
+    // planes, mostly not in L1 (scan endpoints hop between walls), whose latency would otherwise
+    // serialise the loop.
+    if (i + kPrefetch < n)
+      prefetch_support(first(locate(p[i + kPrefetch])), row_stride, plane_stride);
+    const Locator3::Located l = locate(p[i]);
+    out[i].inside = locate.inside(l);
+    sum_support<kGradient>(StridedRows{first(l), row_stride, plane_stride},
+                           support_weights(Locator3::offset(l)), to_world, &out[i]);
+  }
+}
+
 #endif  // VDTNAV_HAVE_X86_KERNELS
 
 }  // namespace
