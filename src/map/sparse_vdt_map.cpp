@@ -8,6 +8,7 @@
 #include <sstream>
 #include <utility>
 
+#include "vdt_lookup_kernels.hpp"
 #include "vdtnav/map/cubic_bspline.hpp"
 #include "vdtnav/map/vector_distance_transform.hpp"
 
@@ -525,6 +526,12 @@ VdtSample<3> SparseVdtMap3::evaluate_one(const Vector& p, bool jacobian) const {
 
 void SparseVdtMap3::evaluate(const Vector* p, std::size_t n, VdtSample<3>* out,
                              bool jacobian) const {
+  // A lambda of a member has its access: the kernel's fallback for the coarse level's points.
+  constexpr detail::SparseFallback kPortable = [](const SparseVdtMap3& map, const Vector& q,
+                                                  bool with_jacobian) {
+    return map.evaluate_one(q, with_jacobian);
+  };
+  if (detail::evaluate_simd(*this, p, n, out, jacobian, kPortable)) return;
   for (std::size_t k = 0; k < n; ++k) out[k] = evaluate_one(p[k], jacobian);
 }
 

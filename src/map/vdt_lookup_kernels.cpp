@@ -1,4 +1,5 @@
-// Batch lookups of DT_v and its Jacobian (VdtMap::evaluate over many points) with the instruction
+// Batch lookups of DT_v and its Jacobian (VdtMap::evaluate and SparseVdtMap3::evaluate over many
+// points) with the instruction
 // set chosen at run time: AVX2 + FMA where the CPU has them, the portable evaluation of
 // cubic_bspline.hpp otherwise. The library is compiled for the baseline ISA; only the functions
 // below carry target("avx2,fma"), and they use intrinsics only (no inline function of another
@@ -9,11 +10,13 @@
 // p = sum_j wy_j row_j (and its y derivative), over planes a = sum_k wz_k p (and the z
 // derivatives), x reduced last with the node weights spread over the lanes of a row (node l =
 // lane / channels). The Jacobian leaves in world units (times 1 / resolution); maps rotated in
-// the world take the portable path. The 3D kernel is written as Locator3, support_weights
-// and sum_support over rows addressed by a functor (StridedRows), for lattices laid out otherwise.
+// the world take the portable path. The dense 3D map and the sparse one share all of it
+// (Locator3, support_weights, sum_support) and differ only in how the support's 16 rows are
+// addressed (StridedRows, BrickRows).
 #include "vdt_lookup_kernels.hpp"
 
 #include <atomic>
+#include <cstdint>
 #include <cstdlib>
 #include <cstring>
 
@@ -318,6 +321,184 @@ VDTNAV_AVX2 void lookup_3d_avx2(const VdtMap<3>& map, const Eigen::Vector3d* p, 
   }
 }
 
+/// Folds the natural-end ghosts into the 4 weights of an axis whose support reaches one (as the
+/// portable AxisSupport): c_{-1} = 2 c_0 - c_1 at the low end (span 0), c_n = 2 c_{n-1} - c_{n-2}
+/// at the high end (span n-2).
+inline void fold_ghosts(float* a, bool low) {
+  if (low) {  // nodes -1, 0, 1, 2 -> 0, 1, 2, 3
+    const float a0 = a[0], a1 = a[1], a2 = a[2], a3 = a[3];
+    a[0] = a1 + 2 * a0;
+    a[1] = a2 - a0;
+    a[2] = a3;
+    a[3] = 0.0F;
+  } else {  // nodes n-3 .. n -> n-4 .. n-1
+    const float a0 = a[0], a1 = a[1], a2 = a[2], a3 = a[3];
+    a[0] = 0.0F;
+    a[1] = a0;
+    a[2] = a1 - a3;
+    a[3] = a2 + 2 * a3;
+  }
+}
+
+/// The rows of a support that crosses a brick face in y or z (and, with kSplitX, in x): row j of
+/// plane k lies in brick[oz][oy] (0 or 1 brick further along the axis) at its node
+/// (lx, (ly + j) & 7, (lz + k) & 7). A row crossing the x face takes its first 3 mx floats from the
+/// x-lower brick and the rest from the row's start in the x-upper one, by complementary masked
+/// loads (masked-out lanes read nothing and do not fault).
+template <bool kSplitX>
+struct BrickRows {
+  const float* brick[2][2][2];  ///< [oz][oy][ox]
+  std::ptrdiff_t x_offset;      ///< floats: 3 lx
+  std::ptrdiff_t row_offset[4], plane_offset[4];
+  int oy[4], oz[4];
+  __m256i lo_ab, hi_ab;  ///< lanes of the x-lower, x-upper brick
+  __m128i lo_c, hi_c;
+
+  VDTNAV_AVX2 void operator()(int j, int k, __m256* ab, __m128* c) const {
+    const std::ptrdiff_t at = plane_offset[k] + row_offset[j];
+    const float* a = brick[oz[k]][oy[j]][0] + at + x_offset;
+    if constexpr (!kSplitX) {
+      *ab = _mm256_loadu_ps(a);
+      *c = _mm_loadu_ps(a + 8);
+    } else {
+      // The x-upper row is addressed 3 mx floats before its start (integer arithmetic: the
+      // address may lie before the array; only its unmasked lanes are read).
+      const auto b = reinterpret_cast<const float*>(
+          reinterpret_cast<std::uintptr_t>(brick[oz[k]][oy[j]][1] + at) -
+          (3 * SparseVdtMap3::kBrick - x_offset) * sizeof(float));
+      const auto a8 =
+          reinterpret_cast<const float*>(reinterpret_cast<std::uintptr_t>(a) + 8 * sizeof(float));
+      *ab = _mm256_or_ps(_mm256_maskload_ps(a, lo_ab), _mm256_maskload_ps(b, hi_ab));
+      *c = _mm_or_ps(_mm_maskload_ps(a8, lo_c), _mm_maskload_ps(b + 8, hi_c));
+    }
+  }
+};
+
+/// SparseVdtMap3's batch lookup: the dense kernel's sums (sum_support) on rows addressed through
+/// the brick index. Per point: the span as the dense map's, the support's first node
+/// clamp(base - 1, 0, n - 4) (the ghosts folded into the weights at the box's ends), its brick
+/// and node in the brick; a support within one brick (lx, ly, lz <= 4: 24 % of uniform points)
+/// is strided like the dense lattice, one crossing a face takes its rows from up to 8 bricks. A
+/// point whose support reaches an unallocated brick is the coarse level's: `fallback`.
+template <bool kGradient>
+VDTNAV_AVX2 void lookup_sparse_avx2(const SparseVdtMap3& map, const Eigen::Vector3d* p,
+                                    std::size_t n, VdtSample<3>* out,
+                                    detail::SparseFallback fallback) {
+  constexpr int kB = SparseVdtMap3::kBrick;
+  constexpr std::ptrdiff_t kRow = 3 * kB, kPlane = kRow * kB;
+  const SparseVdtMap3::Bricks& bricks = map.bricks();
+  const std::int32_t* index = bricks.index;
+  const float* coef = bricks.coefficients;
+  const Eigen::Vector3i& nb = map.brick_grid_size();
+  const std::ptrdiff_t brick_row = nb.x(), brick_plane = brick_row * nb.y();
+  const Locator3 locate(map.frame(), map.size());
+  const __m128i last_start = _mm_sub_epi32(
+      _mm_setr_epi32(map.size().x(), map.size().y(), map.size().z(), 0), _mm_set1_epi32(4));
+  const __m128 to_world = _mm_set1_ps(static_cast<float>(map.frame().inv_resolution()));
+  const __m256i lanes_ab = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
+  const __m128i lanes_c = _mm_setr_epi32(8, 9, 10, 11);
+  struct Support {
+    __m128i start;             ///< first node per axis
+    const std::int32_t* slot;  ///< the brick index at the first node's brick
+    int lx, ly, lz;            ///< first node in its brick
+  };
+  const auto support_of = [&](const Locator3::Located& l) VDTNAV_AVX2 {
+    Support s;
+    s.start = _mm_min_epi32(
+        _mm_max_epi32(_mm_sub_epi32(l.base, _mm_set1_epi32(1)), _mm_setzero_si128()), last_start);
+    const int x = _mm_cvtsi128_si32(s.start), y = _mm_extract_epi32(s.start, 1),
+              z = _mm_extract_epi32(s.start, 2);
+    s.slot = index + ((z >> 3) * brick_plane + (y >> 3) * brick_row + (x >> 3));
+    s.lx = x & 7;
+    s.ly = y & 7;
+    s.lz = z & 7;
+    return s;
+  };
+  const auto brick_at = [&](std::int32_t slot) {
+    return coef + static_cast<std::ptrdiff_t>(slot) * SparseVdtMap3::kBrickFloats;
+  };
+  for (std::size_t i = 0; i < n; ++i) {
+    if (i + kPrefetch < n) {  // the rows in the next point's first brick (see lookup_3d_avx2)
+      const Support s = support_of(locate(p[i + kPrefetch]));
+      if (*s.slot >= 0)
+        prefetch_support(brick_at(*s.slot) + s.lz * kPlane + s.ly * kRow + 3 * s.lx, kRow, kPlane);
+    }
+    const Locator3::Located l = locate(p[i]);
+    const bool inside = locate.inside(l);
+    const Support s = support_of(l);
+    Weights3 w = support_weights(Locator3::offset(l));
+    const __m128i base = l.base;
+    const int low = _mm_movemask_ps(_mm_castsi128_ps(_mm_cmpeq_epi32(base, _mm_setzero_si128())));
+    const int high = _mm_movemask_ps(
+        _mm_castsi128_ps(_mm_cmpeq_epi32(base, _mm_add_epi32(last_start, _mm_set1_epi32(2)))));
+    if (((low | high) & 7) != 0) {  // a support at the box's end: rare, folded in scalars
+      alignas(32) float xy[8], dxy[8], z[8], dz[8];
+      _mm256_store_ps(xy, w.xy);
+      _mm256_store_ps(dxy, w.dxy);
+      _mm256_store_ps(z, w.z);
+      _mm256_store_ps(dz, w.dz);
+      for (int d = 0; d < 3; ++d) {
+        if (((low | high) >> d & 1) == 0) continue;
+        float* a = d == 2 ? z : xy + 4 * d;
+        float* da = d == 2 ? dz : dxy + 4 * d;
+        fold_ghosts(a, (low >> d & 1) != 0);
+        fold_ghosts(da, (low >> d & 1) != 0);
+      }
+      w = Weights3{_mm256_load_ps(xy), _mm256_load_ps(dxy), _mm256_load_ps(z), _mm256_load_ps(dz)};
+    }
+    const int sx = s.lx > kB - 4, sy = s.ly > kB - 4, sz = s.lz > kB - 4;
+    if ((sx | sy | sz) == 0) {  // the whole support in one brick
+      const std::int32_t slot = *s.slot;
+      if (slot < 0) {
+        out[i] = fallback(map, p[i], kGradient);
+        continue;
+      }
+      const float* c0 = brick_at(slot) + s.lz * kPlane + s.ly * kRow + 3 * s.lx;
+      sum_support<kGradient>(StridedRows{c0, kRow, kPlane}, w, to_world, &out[i]);
+      out[i].inside = inside;
+      continue;
+    }
+    // Up to 2 x 2 x 2 bricks; any unallocated one sends the point to the coarse level.
+    const float* brick[2][2][2] = {};
+    std::int32_t any_missing = 0;
+    for (int oz = 0; oz <= sz; ++oz)
+      for (int oy = 0; oy <= sy; ++oy)
+        for (int ox = 0; ox <= sx; ++ox) {
+          const std::int32_t slot = s.slot[oz * brick_plane + oy * brick_row + ox];
+          any_missing |= slot;
+          brick[oz][oy][ox] = brick_at(slot);
+        }
+    if (any_missing < 0) {
+      out[i] = fallback(map, p[i], kGradient);
+      continue;
+    }
+    const auto fill = [&](auto& rows) VDTNAV_AVX2 {
+      std::memcpy(rows.brick, brick, sizeof(brick));
+      rows.x_offset = 3 * s.lx;
+      for (int q = 0; q < 4; ++q) {
+        rows.oy[q] = (s.ly + q) >> 3;
+        rows.oz[q] = (s.lz + q) >> 3;
+        rows.row_offset[q] = ((s.ly + q) & 7) * kRow;
+        rows.plane_offset[q] = ((s.lz + q) & 7) * kPlane;
+      }
+    };
+    if (sx == 0) {
+      BrickRows<false> rows;
+      fill(rows);
+      sum_support<kGradient>(rows, w, to_world, &out[i]);
+    } else {
+      BrickRows<true> rows;
+      fill(rows);
+      const __m256i mx3 = _mm256_set1_epi32(3 * (kB - s.lx));  // lanes of the x-lower brick
+      rows.lo_ab = _mm256_cmpgt_epi32(mx3, lanes_ab);
+      rows.hi_ab = _mm256_xor_si256(rows.lo_ab, _mm256_set1_epi32(-1));
+      rows.lo_c = _mm_cmpgt_epi32(_mm256_castsi256_si128(mx3), lanes_c);
+      rows.hi_c = _mm_xor_si128(rows.lo_c, _mm_set1_epi32(-1));
+      sum_support<kGradient>(rows, w, to_world, &out[i]);
+    }
+    out[i].inside = inside;
+  }
+}
 #endif  // VDTNAV_HAVE_X86_KERNELS
 
 }  // namespace
@@ -345,6 +526,19 @@ bool evaluate_simd(const VdtMap<Dim>& map, const typename SpaceTraits<Dim>::Vect
   return true;
 #else
   (void)map, (void)p, (void)n, (void)out, (void)jacobian;
+  return false;
+#endif
+}
+
+bool evaluate_simd(const SparseVdtMap3& map, const Eigen::Vector3d* p, std::size_t n,
+                   VdtSample<3>* out, bool jacobian, SparseFallback fallback) {
+#if VDTNAV_HAVE_X86_KERNELS
+  if (simd_level() != SimdLevel::kAvx2Fma || !map.frame().axis_aligned()) return false;
+  jacobian ? lookup_sparse_avx2<true>(map, p, n, out, fallback)
+           : lookup_sparse_avx2<false>(map, p, n, out, fallback);
+  return true;
+#else
+  (void)map, (void)p, (void)n, (void)out, (void)jacobian, (void)fallback;
   return false;
 #endif
 }

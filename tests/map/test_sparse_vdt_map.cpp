@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -116,6 +117,99 @@ TEST(SparseVdtMap, ToleranceIsTightWithoutPrefilterOverlap) {
     const Agreement a = agreement(SparseVdtMap3::build(room().room.occupancy, o), pts);
     EXPECT_GT(a.value, kValueTolerance) << "overlap " << overlap;
   }
+}
+
+// The batch lookup's kernels (AVX2 + FMA and the portable one) against the portable point
+// lookup, and the fine points against the dense map: supports within one brick, crossing a brick
+// face in x (masked loads from two bricks) and in y or z, at the box's ends (natural-end ghosts
+// folded into the weights), the coarse level, outside the box and NaN; the test checks that each
+// case is reached.
+TEST(SparseVdtMap, BatchLookupAgreesAtEveryInstructionSetAndWithTheDenseMap) {
+  const SparseVdtMap3 sparse = SparseVdtMap3::build(room().room.occupancy);
+  const Eigen::Vector3i n = sparse.size();
+  const double band = sparse.band() * sparse.resolution();
+  std::vector<Eigen::Vector3d> pts = points_at_distance(0.0, band, 3000, 6);
+  for (const Eigen::Vector3d& p : points_at_distance(band + 0.1, 100.0, 300, 7)) pts.push_back(p);
+  std::mt19937 rng(8);
+  std::uniform_real_distribution<double> uni(0.0, 1.0);
+  for (int k = 0; k < 600; ++k) {  // on and near the box's faces, edges and corners
+    Eigen::Vector3d u;
+    for (int d = 0; d < 3; ++d) {
+      const double h = n[d] - 1.0;
+      const double ends[] = {0.0, 0.4 * uni(rng), 1.0 + uni(rng), h - 1.0 - uni(rng), h};
+      u[d] = uni(rng) < 0.5 ? ends[k % 5] : h * uni(rng);
+    }
+    pts.push_back(sparse.frame().world_point(u));
+  }
+  pts.push_back(sparse.frame().world_point(Eigen::Vector3d(-1e-12, 1.0, n.z() - 1 + 1e-12)));
+  pts.push_back(sparse.frame().world_point(Eigen::Vector3d(-3.0, n.y() + 5.0, 2.0)));
+  pts.push_back(Eigen::Vector3d::Constant(1e6));
+  pts.push_back(Eigen::Vector3d::Constant(std::nan("")));
+
+  // Which path each point takes: the support's first node (as the kernels place it).
+  std::size_t one_brick = 0, split_x = 0, split_yz = 0, folded = 0, coarse = 0;
+  for (const Eigen::Vector3d& p : pts) {
+    if (!sparse.fine_level(p)) {
+      ++coarse;
+      continue;
+    }
+    Eigen::Vector3d u = sparse.frame().continuous_index(p);
+    bool fold = false;
+    Eigen::Vector3i l;
+    for (int d = 0; d < 3; ++d) {
+      u[d] = std::clamp(std::isnan(u[d]) ? 0.0 : u[d], 0.0, n[d] - 1.0);
+      const int base = std::min(static_cast<int>(u[d]), n[d] - 2);
+      fold |= base == 0 || base == n[d] - 2;
+      l[d] = std::clamp(base - 1, 0, n[d] - 4) % SparseVdtMap3::kBrick;
+    }
+    folded += fold;
+    const auto split = (l.array() > SparseVdtMap3::kBrick - 4).eval();
+    split_x += split.x();
+    split_yz += !split.x() && (split.y() || split.z());
+    one_brick += !split.any();
+  }
+  EXPECT_GT(one_brick, 100u);
+  EXPECT_GT(split_x, 100u);
+  EXPECT_GT(split_yz, 100u);
+  EXPECT_GT(folded, 100u);
+  EXPECT_GT(coarse, 100u);
+
+  const SimdLevel best = simd_level();
+  set_simd_level(SimdLevel::kBaseline);  // the reference: the portable lookup, point by point
+  std::vector<VdtSample<3>> reference;
+  for (const Eigen::Vector3d& p : pts) reference.push_back(sparse.evaluate(p));
+  std::vector<VdtSample<3>> dense(pts.size());
+  room().dense.evaluate(pts.data(), pts.size(), dense.data());
+  int levels = 0;
+  for (SimdLevel level : {SimdLevel::kBaseline, SimdLevel::kAvx2Fma}) {
+    if (set_simd_level(level) != level) continue;  // the CPU lacks it
+    ++levels;
+    std::vector<VdtSample<3>> batch(pts.size()), values(pts.size());
+    sparse.evaluate(pts.data(), pts.size(), batch.data());
+    sparse.evaluate(pts.data(), pts.size(), values.data(), /*jacobian=*/false);
+    double dense_value = 0.0, dense_jacobian = 0.0;
+    for (std::size_t k = 0; k < pts.size(); ++k) {
+      const VdtSample<3>& ref = reference[k];
+      ASSERT_EQ(batch[k].inside, ref.inside) << "point " << k;
+      ASSERT_EQ(values[k].inside, ref.inside) << "point " << k;
+      // Float coefficients summed in another order, with fused multiply-adds: a few ulps.
+      ASSERT_LT((batch[k].value - ref.value).cwiseAbs().maxCoeff(), 1e-5) << "point " << k;
+      ASSERT_LT((batch[k].jacobian - ref.jacobian).cwiseAbs().maxCoeff(), 1e-4) << "point " << k;
+      ASSERT_LT((values[k].value - ref.value).cwiseAbs().maxCoeff(), 1e-5) << "point " << k;
+      if (!sparse.fine_level(pts[k]) || !ref.inside) continue;
+      dense_value = std::max(dense_value, (batch[k].value - dense[k].value).cwiseAbs().maxCoeff());
+      dense_jacobian =
+          std::max(dense_jacobian, (batch[k].jacobian - dense[k].jacobian).cwiseAbs().maxCoeff());
+    }
+    EXPECT_LT(dense_value, kValueTolerance) << "level " << static_cast<int>(level);
+    EXPECT_LT(dense_jacobian, kJacobianTolerance) << "level " << static_cast<int>(level);
+  }
+  set_simd_level(best);
+  EXPECT_GE(levels, 1);
+  std::printf(
+      "batch lookup: %zu points (%zu in one brick, %zu across x, %zu across y/z only, "
+      "%zu at the box's ends, %zu coarse), %d instruction sets\n",
+      pts.size(), one_brick, split_x, split_yz, folded, coarse, levels);
 }
 
 TEST(SparseVdtMap, MatchesTheDenseMapOnARotatedFrame) {

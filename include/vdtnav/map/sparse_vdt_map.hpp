@@ -108,8 +108,10 @@ class SparseVdtMap3 {
     return s;
   }
 
-  /// \brief evaluate() at n points (out[k] for p[k]); without `jacobian` only the values and the
-  /// inside flags are written.
+  /// \brief evaluate() at n points (out[k] for p[k]) with the kernels of simd_level(), as
+  /// VdtMap3::evaluate (AVX2 results differ from the portable ones by float rounding); points
+  /// answered by the coarse level take the portable path. Without `jacobian` only the values and
+  /// the inside flags are written.
   void evaluate(const Vector* p, std::size_t n, VdtSample<3>* out, bool jacobian = true) const;
 
   /// \brief The exact alternative (as VdtMap3's): DT_v(p) = p - c(cell(p)) from the stored nearest
