@@ -26,7 +26,7 @@ struct Fixture {
   VdtMap<Dim> map;
   std::vector<Vector> coherent, random;
   double bytes_per_cell = 0.0;
-  SparseVdtMap3 sparse;  ///< 3D: the same occupancy as bricks (band 4 voxels)
+  SparseVdtMap3 sparse;  ///< 3D: the same occupancy as bricks (default band, 3 voxels)
   double sparse_bytes_per_cell = 0.0;
 };
 
@@ -158,6 +158,26 @@ void lookup_sparse(benchmark::State& state, const Fixture<3>& f, bool coherent) 
   state.counters["bytes_per_cell"] = f.sparse_bytes_per_cell;
 }
 
+/// The sparse map's batch form on the same scans as lookup_batch<3> (BM_VdtLookupGradient3D/
+/// coherent_batch): the kernels prefetch the next points' bricks.
+void lookup_sparse_batch(benchmark::State& state, const Fixture<3>& f, std::size_t batch) {
+  const auto& pts = f.coherent;
+  std::vector<VdtSample<3>> out(batch);
+  std::size_t i = 0;
+  const bench::PerItemTimer timer;
+  for (auto _ : state) {
+    f.sparse.evaluate(pts.data() + i, batch, out.data());
+    benchmark::DoNotOptimize(out.data());
+    benchmark::ClobberMemory();
+    i += batch;
+    if (i + batch > pts.size()) i = 0;
+  }
+  timer.set(state, "ns_per_point", static_cast<double>(batch));
+  state.counters["points"] = static_cast<double>(pts.size());
+  state.counters["bytes_per_cell"] = f.sparse_bytes_per_cell;
+  state.counters["avx2"] = simd_level() == SimdLevel::kAvx2Fma ? 1.0 : 0.0;
+}
+
 // Registered by name so that the names stay exactly BM_VdtLookup<...>/<coherent|random>.
 const bool kRegistered = [] {
   benchmark::RegisterBenchmark("BM_VdtLookupGradient2D/coherent",
@@ -180,6 +200,9 @@ const bool kRegistered = [] {
   benchmark::RegisterBenchmark("BM_VdtLookupGradient3D/coherent_batch", [](benchmark::State& s) {
     lookup_batch<3>(s, fixture3(), true, 1081);
   });
+  benchmark::RegisterBenchmark(
+      "BM_VdtLookupGradient3DSparse/coherent_batch",
+      [](benchmark::State& s) { lookup_sparse_batch(s, fixture3(), 1081); });
   return true;
 }();
 
