@@ -28,7 +28,7 @@ VdtOptimizerOptions six_dof(VdtOptimizerOptions o) {
 
 }  // namespace
 
-VdtOptimizationLocalizer3::VdtOptimizationLocalizer3(const VdtMap3& map,
+VdtOptimizationLocalizer3::VdtOptimizationLocalizer3(const VdtField3& map,
                                                      const VdtLocalizer3Options& options)
     : options_(options),
       optimizer_(map, options.optimizer),

@@ -338,7 +338,7 @@ std::uint64_t spread_bits3(std::uint64_t v) {
 /// at `pose`, so that consecutive lookups share the cache lines of their 4 x 4 x 4 spline
 /// support; a 3D lookup is memory-bound and a pan-tilt sweep jumps between surfaces.
 template <int Dim>
-std::vector<int> lookup_order(const VdtMap<Dim>& map, const ObservationSet<Dim>& scan,
+std::vector<int> lookup_order(const VdtField<Dim>& map, const ObservationSet<Dim>& scan,
                               const typename PoseTraits<Dim>::Pose& pose) {
   using Traits = PoseTraits<Dim>;
   std::vector<int> order(scan.size());
@@ -361,10 +361,11 @@ std::vector<int> lookup_order(const VdtMap<Dim>& map, const ObservationSet<Dim>&
 }  // namespace
 
 template <int Dim>
-VdtOptimizerT<Dim>::VdtOptimizerT(const Map& map, const VdtOptimizerOptions& options)
+VdtOptimizerT<Dim>::VdtOptimizerT(const Field& map, const VdtOptimizerOptions& options)
     : model_(map, options.sensor), options_(options) {
   validate_and_default();
   coarse_maps_ = build_pyramid(map, options_.pyramid_levels);
+  options_.pyramid_levels = static_cast<int>(coarse_maps_->size());  // 0 on a sparse map
   make_coarse_models();
 }
 
@@ -375,6 +376,7 @@ VdtOptimizerT<Dim>::VdtOptimizerT(const VdtOptimizerT& other, const VdtOptimizer
   coarse_maps_ = options_.pyramid_levels == other.options_.pyramid_levels
                      ? other.coarse_maps_
                      : build_pyramid(other.model_.map(), options_.pyramid_levels);
+  options_.pyramid_levels = static_cast<int>(coarse_maps_->size());
   make_coarse_models();
 }
 
@@ -397,8 +399,12 @@ void VdtOptimizerT<Dim>::validate_and_default() {
 
 template <int Dim>
 std::shared_ptr<const std::vector<std::unique_ptr<VdtMap<Dim>>>> VdtOptimizerT<Dim>::build_pyramid(
-    const Map& map, int levels) {
+    const Field& field, int levels) {
   auto maps = std::make_shared<std::vector<std::unique_ptr<Map>>>();
+  // Coarse levels from a dense map's features; a sparse map has none (see the constructor).
+  const auto* dense = dynamic_cast<const Map*>(&field);
+  if (dense == nullptr) return maps;
+  const Map& map = *dense;
   // Occupancy of the map: the cells that are their own nearest feature.
   using Index = typename SpaceTraits<Dim>::Index;
   const auto& nearest = map.nearest_cells();

@@ -566,4 +566,18 @@ std::size_t SparseVdtMap3::memory_bytes() const noexcept {
          static_cast<std::size_t>(bricks_size_.prod()) * 4 * sizeof(std::int32_t);
 }
 
+VdtSampleWithHessian<3> SparseVdtMap3::evaluate_with_hessian(const Vector& p) const {
+  VdtSampleWithHessian<3> out;
+  static_cast<VdtSample<3>&>(out) = evaluate(p);
+  const double h = resolution() / 20.0;
+  for (int a = 0; a < 3; ++a) {
+    const Vector step = h * Vector::Unit(a);
+    const Matrix d = (evaluate(p + step).jacobian - evaluate(p - step).jacobian) / (2.0 * h);
+    for (int c = 0; c < 3; ++c) out.hessian[c].col(a) = d.row(c).transpose();  // d(grad DT_c)/dp_a
+  }
+  for (int c = 0; c < 3; ++c)  // symmetric by definition: average out the differences' noise
+    out.hessian[c] = 0.5 * (out.hessian[c] + out.hessian[c].transpose()).eval();
+  return out;
+}
+
 }  // namespace vdtnav

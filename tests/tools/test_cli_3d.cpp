@@ -193,6 +193,35 @@ TEST(Cli3d, ASequenceWritesOneYamlPerScanAndATumTrajectoryStampedByFileName) {
   }
 }
 
+TEST(Cli3d, ASparseMapFileGivesTheDenseMapsPose) {
+  // map3d --out X.svdt: bricks near the surfaces, no dense grid; localize3d memory-maps it. Near
+  // the truth (the sparse map has no coarse levels) it must land where the dense map does.
+  const Fixture& f = fixture();
+  const fs::path sparse = f.dir / "room.svdt", dense = f.dir / "room_dense.vdt";
+  for (const fs::path& out : {sparse, dense}) {
+    ASSERT_EQ(run_cli("map3d --map " + (f.dir / "room.csv").string() + " --out " + out.string(),
+                      f.dir / "map3d_sparse.log"),
+              0)
+        << read_all(f.dir / "map3d_sparse.log");
+  }
+  YamlResult r[2];
+  int k = 0;
+  for (const fs::path& map : {sparse, dense}) {
+    const fs::path out = f.dir / ("via_" + map.extension().string().substr(1) + ".yaml");
+    ASSERT_EQ(run_cli("localize3d --map " + map.string() + " --scan " +
+                          (f.dir / "scans" / "100.1.pcd").string() +
+                          " --init 3.32,4.02,1.21,0.02,-0.03,0.33 --out " + out.string(),
+                      f.dir / "sparse.log"),
+              0)
+        << read_all(f.dir / "sparse.log");
+    r[k++] = read_yaml(out);
+  }
+  EXPECT_EQ(r[0].status, "converged");
+  EXPECT_LT((r[0].pose - r[1].pose).cwiseAbs().maxCoeff(), 1e-4);
+  EXPECT_LT((r[0].pose.topRightCorner<3, 1>() - f.truth[1].translation()).norm(), 0.03);
+  EXPECT_NEAR(r[0].covariance(0, 0), r[1].covariance(0, 0), 0.05 * r[1].covariance(0, 0));
+}
+
 TEST(Cli3d, FourDofHoldsRollAndPitchAtTheGuess) {
   const Fixture& f = fixture();
   const fs::path out = f.dir / "dof4.yaml", log = f.dir / "dof4.log";

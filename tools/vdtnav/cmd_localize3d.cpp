@@ -175,15 +175,17 @@ void run_localize3d(const Localize3dArgs& a) {
 
   std::fprintf(stderr, "[localize3d] map %s\n", a.map.c_str());
   const Map3d map = load_map3d(a.map, mo);
-  std::fprintf(stderr, "[localize3d] %s map %d x %d x %d voxels of %.3f m ready in %.2f s\n",
-               map.source.c_str(), map.vdt.size().x(), map.vdt.size().y(), map.vdt.size().z(),
-               map.vdt.resolution(), map.seconds);
-  const VdtOptimizer3 optimizer(map.vdt, opt);
+  const VdtField3& field = map.field();
+  std::fprintf(stderr,
+               "[localize3d] %s map %d x %d x %d voxels of %.3f m, %.0f MB, ready in %.2f s\n",
+               map.source.c_str(), field.size().x(), field.size().y(), field.size().z(),
+               field.resolution(), static_cast<double>(map.memory_bytes()) * 1e-6, map.seconds);
+  const VdtOptimizer3 optimizer(field, opt);
   CloudObservationOptions co;
   co.sigma_range = a.sigma_range;
   co.range_min = a.min_range;
   co.range_max = a.max_range;
-  co.voxel = a.voxel >= 0.0 ? a.voxel : map.vdt.resolution();
+  co.voxel = a.voxel >= 0.0 ? a.voxel : field.resolution();
   MultiStartOptions ms;
   ms.enabled = a.multi_start;
   ms.attitude_grid = 2;  // from an identity guess 10-15 degrees off (libpointmatcher's car pair)
@@ -280,7 +282,7 @@ void add_localize3d_command(CLI::App& app) {
       "explains, per scan");
   cmd->add_option("--map", args->map,
                   "Map: point cloud (.pcd .ply .vtk .csv .txt .xyz), OctoMap (.bt .ot) or a map "
-                  "saved by `vdtnav map3d` (.vdt); required");
+                  "saved by `vdtnav map3d` (.vdt dense, .svdt sparse); required");
   cmd->add_option("--scan", args->scans, "Scan file(s) (.pcd .ply .vtk .csv .txt .xyz), in order");
   cmd->add_option("--scans", args->scans_dir, "A folder of scans, localized in name order");
   cmd->add_option("--init", args->init,
@@ -296,6 +298,10 @@ void add_localize3d_command(CLI::App& app) {
   cmd->add_option("--margin", args->map_options.margin,
                   "Free border around a cloud's or octree's occupied space, metres")
       ->capture_default_str();
+  cmd->add_flag("--sparse", args->map_options.sparse,
+                "Build a sparse map from a cloud or octree (bricks near the surfaces, no dense "
+                "grid: building-sized maps; no coarse levels, so a poor guess needs "
+                "--multi-start). A .svdt map is sparse anyway");
   cmd->add_option("--crop", args->crop,
                   "Keep only the map cloud's points in the box xmin,ymin,zmin,xmax,ymax,zmax");
   cmd->add_option("--voxel", args->voxel,

@@ -1,10 +1,12 @@
-// vdtnav map3d: builds the VDT map of a point cloud or an octree once and saves it (.vdt), so that
-// `vdtnav localize3d --map MAP.vdt` loads it in a moment instead of building it every run.
+// vdtnav map3d: builds the VDT map of a point cloud or an octree once and saves it (.vdt dense,
+// .svdt sparse), so that `vdtnav localize3d --map MAP.vdt` loads it in a moment instead of
+// building it every run.
 #include <cstdio>
 
 #include "common.hpp"
 #include "map3d.hpp"
 #include "vdtnav/core/error.hpp"
+#include "vdtnav/io/sparse_vdt_map_file.hpp"
 #include "vdtnav/io/vdt_map_file.hpp"
 
 namespace vdtnav::tools {
@@ -19,14 +21,23 @@ struct Map3dArgs {
 void run_map3d(const Map3dArgs& a) {
   Map3dOptions o = a.options;
   if (!a.crop.empty()) o.crop = parse_crop(a.crop, "--crop");
-  if (a.out.size() < 4 || a.out.substr(a.out.size() - 4) != ".vdt")
-    throw ConfigError("map3d: --out must name a .vdt file, got '" + a.out + "'");
-  std::fprintf(stderr, "[map3d] building the VDT map of %s\n", a.map.c_str());
+  const auto ends_with = [&](const std::string& e) {
+    return a.out.size() > e.size() && a.out.compare(a.out.size() - e.size(), e.size(), e) == 0;
+  };
+  o.sparse = ends_with(".svdt");
+  if (!o.sparse && !ends_with(".vdt")) {
+    throw ConfigError("map3d: --out must name a .vdt (dense) or .svdt (sparse) file, got '" +
+                      a.out + "'");
+  }
+  std::fprintf(stderr, "[map3d] building the %s VDT map of %s\n", o.sparse ? "sparse" : "dense",
+               a.map.c_str());
   const Map3d map = load_map3d(a.map, o);
-  save_vdt_map(a.out, map.vdt);
+  if (map.dense) save_vdt_map(a.out, *map.dense);
+  if (map.sparse) save_sparse_vdt_map(a.out, *map.sparse);
+  const VdtField3& f = map.field();
   std::printf("wrote %s: %d x %d x %d voxels of %.3f m, %.1f MB, built in %.2f s\n", a.out.c_str(),
-              map.vdt.size().x(), map.vdt.size().y(), map.vdt.size().z(), map.vdt.resolution(),
-              static_cast<double>(map.vdt.memory_bytes()) * 1e-6, map.seconds);
+              f.size().x(), f.size().y(), f.size().z(), f.resolution(),
+              static_cast<double>(map.memory_bytes()) * 1e-6, map.seconds);
 }
 
 }  // namespace
@@ -38,7 +49,10 @@ void add_map3d_command(CLI::App& app) {
       "Build the VDT map of a point cloud (PCD, PLY, VTK, CSV/TXT/XYZ) or an OctoMap "
       "(.bt, .ot) and save it as a .vdt file for localize3d");
   cmd->add_option("--map", args->map, "Point cloud or octree file")->required();
-  cmd->add_option("--out", args->out, "Output map file (.vdt)")->required();
+  cmd->add_option("--out", args->out,
+                  "Output map file: .vdt (dense) or .svdt (sparse: bricks near the surfaces, "
+                  "built without a dense grid, memory-mapped when loaded)")
+      ->required();
   cmd->add_option("--resolution", args->options.resolution,
                   "Voxel edge, metres (clouds: default 0.1; octrees: default the tree's own, "
                   "otherwise a whole multiple of it)");

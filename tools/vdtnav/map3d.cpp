@@ -7,6 +7,7 @@
 #include <cstdio>
 
 #include "vdtnav/core/error.hpp"
+#include "vdtnav/io/sparse_vdt_map_file.hpp"
 #include "vdtnav/io/vdt_map_file.hpp"
 #include "vdtnav/octomap/octree_map.hpp"
 #include "vdtnav/pcl/point_cloud_conversion.hpp"
@@ -69,24 +70,36 @@ Map3d load_map3d(const std::string& path, const Map3dOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   const std::string ext = lower_extension(path);
   Map3d out;
-  if (ext == ".vdt") {
-    if (options.crop) throw ConfigError(path + ": --crop applies to point clouds, not a .vdt map");
-    out.vdt = load_vdt_map<3>(path);
-    out.source = "vdt map file";
-    if (options.resolution > 0.0 && std::abs(options.resolution - out.vdt.resolution()) > 1e-9) {
-      throw ConfigError(path + ": the saved map has resolution " +
-                        std::to_string(out.vdt.resolution()) + " m, not the --resolution " +
-                        std::to_string(options.resolution) + " asked for (build it again)");
+  const auto check_resolution = [&](double saved) {
+    if (options.resolution > 0.0 && std::abs(options.resolution - saved) > 1e-9) {
+      throw ConfigError(path + ": the saved map has resolution " + std::to_string(saved) +
+                        " m, not the --resolution " + std::to_string(options.resolution) +
+                        " asked for (build it again)");
     }
+  };
+  if (ext == ".vdt" || ext == ".svdt") {
+    if (options.crop) throw ConfigError(path + ": --crop applies to point clouds, not a saved map");
+    if (ext == ".vdt") {
+      out.dense = std::make_unique<VdtMap3>(load_vdt_map<3>(path));
+      out.source = "vdt map file";
+    } else {
+      out.sparse = std::make_unique<SparseVdtMap3>(load_sparse_vdt_map(path));
+      out.source = "sparse vdt map file (memory-mapped)";
+    }
+    check_resolution(out.field().resolution());
   } else if (ext == ".bt" || ext == ".ot") {
     if (options.crop) throw ConfigError(path + ": --crop applies to point clouds, not an octree");
     OctreeOccupancyOptions o;
     o.resolution = options.resolution;
     o.margin = options.margin;
-    const OctreeOccupancy occ = load_octree_occupancy(path, o);
-    say_grid(occ.occupancy, options.quiet);
-    out.vdt = VdtMap3::build(occ.occupancy);
-    out.source = "octree";
+    if (options.sparse) {
+      out.sparse = std::make_unique<SparseVdtMap3>(load_octree_sparse_map(path, o));
+    } else {
+      const OctreeOccupancy occ = load_octree_occupancy(path, o);
+      say_grid(occ.occupancy, options.quiet);
+      out.dense = std::make_unique<VdtMap3>(VdtMap3::build(occ.occupancy));
+    }
+    out.source = options.sparse ? "octree, sparse" : "octree";
   } else {
     pcl::PointCloud<pcl::PointXYZ> cloud = read_point_cloud(path);
     const std::size_t read = cloud.size();
@@ -104,17 +117,27 @@ Map3d load_map3d(const std::string& path, const Map3dOptions& options) {
     PointCloudOccupancyOptions o;
     o.resolution = options.resolution > 0.0 ? options.resolution : 0.1;
     o.margin = options.margin;
-    const PointCloudOccupancy occ = occupancy_from_point_cloud(cloud, o);
-    if (!options.quiet) {
-      std::fprintf(stderr, "[map3d] %zu points read, %zu kept, %zu occupied voxels\n", read,
-                   cloud.size() - occ.num_dropped, occ.num_occupied);
+    if (options.sparse) {
+      if (!options.quiet)
+        std::fprintf(stderr, "[map3d] %zu points read, %zu kept\n", read, cloud.size());
+      out.sparse = std::make_unique<SparseVdtMap3>(sparse_vdt_map_from_point_cloud(cloud, o));
+    } else {
+      const PointCloudOccupancy occ = occupancy_from_point_cloud(cloud, o);
+      if (!options.quiet) {
+        std::fprintf(stderr, "[map3d] %zu points read, %zu kept, %zu occupied voxels\n", read,
+                     cloud.size() - occ.num_dropped, occ.num_occupied);
+      }
+      say_grid(occ.occupancy, options.quiet);
+      out.dense = std::make_unique<VdtMap3>(VdtMap3::build(occ.occupancy));
     }
-    say_grid(occ.occupancy, options.quiet);
-    out.vdt = VdtMap3::build(occ.occupancy);
-    out.source = "point cloud";
+    out.source = options.sparse ? "point cloud, sparse" : "point cloud";
   }
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return out;
+}
+
+std::size_t Map3d::memory_bytes() const {
+  return dense ? dense->memory_bytes() : sparse->memory_bytes();
 }
 
 }  // namespace vdtnav::tools

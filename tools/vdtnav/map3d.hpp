@@ -1,13 +1,17 @@
 #pragma once
 /// \file
 /// \brief The 3D maps `vdtnav localize3d` and `vdtnav map3d` read: a point cloud (PCD, PLY, VTK,
-/// text), an OctoMap (.bt, .ot) or a saved VDT map (.vdt), by the extension.
+/// text), an OctoMap (.bt, .ot) or a saved VDT map (.vdt dense, .svdt sparse), by the extension;
+/// clouds and octrees become dense maps, or sparse ones (bricks near the surfaces, no dense grid:
+/// building-sized maps) with `sparse`.
 
+#include <memory>
 #include <optional>
 #include <string>
 
 #include <Eigen/Core>
 
+#include "vdtnav/map/sparse_vdt_map.hpp"
 #include "vdtnav/map/vdt_map.hpp"
 
 namespace vdtnav::tools {
@@ -27,14 +31,21 @@ struct Map3dOptions {
   double resolution = 0.0;
   double margin = 1.0;  ///< free border around a cloud's or an octree's occupied space, metres
   std::optional<CropBox> crop;  ///< clouds only: the points kept
+  bool sparse = false;          ///< clouds and octrees: build a SparseVdtMap3
   bool quiet = false;
 };
 
 /// \brief A loaded (or built) map and how long it took.
 struct Map3d {
-  VdtMap3 vdt;
+  std::unique_ptr<VdtMap3> dense;  ///< one of the two
+  std::unique_ptr<SparseVdtMap3> sparse;
   double seconds = 0.0;
-  std::string source;  ///< "point cloud", "octree" or "vdt map file"
+  std::string source;  ///< "point cloud", "octree", "vdt map file", ... (", sparse")
+
+  [[nodiscard]] const VdtField3& field() const {
+    return dense ? static_cast<const VdtField3&>(*dense) : *sparse;
+  }
+  [[nodiscard]] std::size_t memory_bytes() const;
 };
 
 /// \brief Loads or builds the VDT map of `path`, saying on stderr what it does (the grid's size

@@ -72,7 +72,7 @@ struct VdtLocalizer3Options {
 class VdtOptimizationLocalizer3 final : public Localizer3D {
  public:
   /// \throws ConfigError for invalid options. The map must outlive the localizer.
-  VdtOptimizationLocalizer3(const VdtMap3& map, const VdtLocalizer3Options& options = {});
+  VdtOptimizationLocalizer3(const VdtField3& map, const VdtLocalizer3Options& options = {});
   /// \brief As above sharing `shared`'s coarse levels (same map): both modes built once.
   VdtOptimizationLocalizer3(const VdtOptimizer3& shared, const VdtLocalizer3Options& options);
 

@@ -117,12 +117,16 @@ class VdtOptimizerT {
   using Pose = typename Traits::Pose;
   using Covariance = typename Traits::Covariance;
   using Map = VdtMap<Dim>;
+  using Field = VdtField<Dim>;
   using Observations = ObservationSet<Dim>;
   using SensorModel = VdtSensorModelT<Dim>;
   using Result = LocalizationResultT<Dim>;
 
+  /// \brief An optimizer on a VDT map: the dense VdtMap, or a SparseVdtMap3 (a building-sized
+  /// map), which has no coarse levels (pyramid_levels is taken as 0: the guess must be within the
+  /// fine level's basin, or use solve_multi_start). The map must outlive the optimizer.
   /// \throws ConfigError for invalid options.
-  VdtOptimizerT(const Map& map, const VdtOptimizerOptions& options = {});
+  VdtOptimizerT(const Field& map, const VdtOptimizerOptions& options = {});
   /// \brief An optimizer on `other`'s map with other options (the 4-DOF mode next to the 6-DOF
   /// one, another loss, ...), sharing its coarse levels when the pyramid_levels agree: a
   /// map's pyramid is built once however many optimizers use it.
@@ -165,7 +169,7 @@ class VdtOptimizerT {
   void validate_and_default();
   /// The coarse levels, resolution x 2^k for k = levels .. 1 (coarsest first).
   [[nodiscard]] static std::shared_ptr<const std::vector<std::unique_ptr<Map>>> build_pyramid(
-      const Map& map, int levels);
+      const Field& map, int levels);
   void make_coarse_models();
 
   SensorModel model_;

@@ -34,6 +34,7 @@
 #include <vector>
 
 #include "vdtnav/map/grid.hpp"
+#include "vdtnav/map/vdt_field.hpp"
 #include "vdtnav/map/vdt_map.hpp"
 
 namespace vdtnav {
@@ -57,7 +58,7 @@ struct SparseVdtMapOptions {
 ///
 /// Copies share the (immutable) bricks. Queries outside the box are clamped (inside = false) as
 /// VdtMap3's are.
-class SparseVdtMap3 {
+class SparseVdtMap3 final : public VdtField<3> {
  public:
   using Vector = Eigen::Vector3d;
   using Matrix = Eigen::Matrix3d;
@@ -112,19 +113,26 @@ class SparseVdtMap3 {
   /// VdtMap3::evaluate (AVX2 results differ from the portable ones by float rounding); points
   /// answered by the coarse level take the portable path. Without `jacobian` only the values and
   /// the inside flags are written.
-  void evaluate(const Vector* p, std::size_t n, VdtSample<3>* out, bool jacobian = true) const;
+  void evaluate(const Vector* p, std::size_t n, VdtSample<3>* out,
+                bool jacobian = true) const override;
+
+  /// \brief DT_v, its Jacobian and its Hessians at p. The Hessians are central differences of
+  /// the analytic Jacobian over +-resolution/20 (the spline is C^2: the error is O(h^2) of its
+  /// third derivative, ~1e-3 of a Hessian of 1/resolution); what the implicit-function covariance
+  /// needs, once per reading and solve.
+  [[nodiscard]] VdtSampleWithHessian<3> evaluate_with_hessian(const Vector& p) const override;
 
   /// \brief The exact alternative (as VdtMap3's): DT_v(p) = p - c(cell(p)) from the stored nearest
   /// surface voxel of the cell containing p, recovered from the spline's value at that node
   /// (it interpolates the integer offsets exactly). Exact for cells within `band` + sqrt(3)/2
   /// voxels of the surface; elsewhere c is the coarse level's.
-  [[nodiscard]] VdtSample<3> nearest_point_query(const Vector& p) const;
+  [[nodiscard]] VdtSample<3> nearest_point_query(const Vector& p) const override;
 
   /// \return true when the fine level (the bricks) answers a query at p.
   [[nodiscard]] bool fine_level(const Vector& p) const;
 
-  [[nodiscard]] const GridFrame<3>& frame() const noexcept { return frame_; }
-  [[nodiscard]] const Index& size() const noexcept { return size_; }
+  [[nodiscard]] const GridFrame<3>& frame() const noexcept override { return frame_; }
+  [[nodiscard]] const Index& size() const noexcept override { return size_; }
   [[nodiscard]] double resolution() const noexcept { return frame_.resolution(); }
   [[nodiscard]] double band() const noexcept { return band_; }
   /// \return bricks per axis, ceil(size / kBrick).

@@ -14,6 +14,7 @@
 
 #include "vdtnav/map/cubic_bspline.hpp"
 #include "vdtnav/map/grid.hpp"
+#include "vdtnav/map/vdt_field.hpp"
 #include "vdtnav/map/vector_distance_transform.hpp"
 
 namespace vdtnav {
@@ -34,26 +35,10 @@ enum class SimdLevel {
 /// the CPU lacks falls back to kBaseline. \return the level now in use.
 SimdLevel set_simd_level(SimdLevel level) noexcept;
 
-/// \brief DT_v and its Jacobian at a query point.
+/// \brief Continuous VDT map of dimension Dim (aliases VdtMap2, VdtMap3), dense: every cell of
+/// the box. The estimators take any VdtField (vdt_field.hpp); this is the one they are fastest on.
 template <int Dim>
-struct VdtSample {
-  using Vector = typename SpaceTraits<Dim>::Vector;
-  using Matrix = typename SpaceTraits<Dim>::Matrix;
-  Vector value = Vector::Zero();     ///< DT_v(p) = p - c(p), world axes, metres
-  Matrix jacobian = Matrix::Zero();  ///< dDT_v/dp; row c is the gradient of component c
-  bool inside = false;  ///< false: p is outside the map and the values belong to the clamped point
-};
-
-/// \brief DT_v, its Jacobian, and the Hessian of every component.
-template <int Dim>
-struct VdtSampleWithHessian : VdtSample<Dim> {
-  std::array<typename SpaceTraits<Dim>::Matrix, Dim>
-      hessian{};  ///< d^2 DT_c / dp^2 per component c
-};
-
-/// \brief Continuous VDT map of dimension Dim (aliases VdtMap2, VdtMap3).
-template <int Dim>
-class VdtMap {
+class VdtMap final : public VdtField<Dim> {
  public:
   using Vector = typename SpaceTraits<Dim>::Vector;
   using Matrix = typename SpaceTraits<Dim>::Matrix;
@@ -84,10 +69,11 @@ class VdtMap {
   /// SIMD kernels of simd_level(), no call per point. The AVX2 kernels sum in another order with
   /// fused multiply-adds: results differ from evaluate()'s by float rounding of the coefficients.
   /// Without `jacobian`, only the values and the inside flags are written (about half the work).
-  void evaluate(const Vector* p, std::size_t n, VdtSample<Dim>* out, bool jacobian = true) const;
+  void evaluate(const Vector* p, std::size_t n, VdtSample<Dim>* out,
+                bool jacobian = true) const override;
 
   /// \brief Interpolated DT_v, Jacobian and Hessians at world point p.
-  [[nodiscard]] VdtSampleWithHessian<Dim> evaluate_with_hessian(const Vector& p) const;
+  [[nodiscard]] VdtSampleWithHessian<Dim> evaluate_with_hessian(const Vector& p) const override;
 
   /// \brief Interpolated DT_v only (the batch lookup for one point, without the Jacobian).
   [[nodiscard]] Vector value(const Vector& p, bool* inside = nullptr) const {
@@ -100,14 +86,14 @@ class VdtMap {
   /// \brief The exact alternative to interpolation (SPEC, Numerical notes): the residual from the
   /// stored nearest occupied cell of the cell containing p, DT_v(p) = p - c(cell(p)). Its Jacobian
   /// is the identity: no averaging across a cut locus, at the price of a piecewise model.
-  [[nodiscard]] VdtSample<Dim> nearest_point_query(const Vector& p) const;
+  [[nodiscard]] VdtSample<Dim> nearest_point_query(const Vector& p) const override;
 
   /// \return the centre of the occupied cell nearest to the cell containing p (clamped into the
   /// map).
   [[nodiscard]] Vector nearest_occupied_point(const Vector& p) const;
 
-  [[nodiscard]] const GridFrame<Dim>& frame() const noexcept { return nearest_.frame(); }
-  [[nodiscard]] const Index& size() const noexcept { return nearest_.size(); }
+  [[nodiscard]] const GridFrame<Dim>& frame() const noexcept override { return nearest_.frame(); }
+  [[nodiscard]] const Index& size() const noexcept override { return nearest_.size(); }
   [[nodiscard]] double resolution() const noexcept { return nearest_.resolution(); }
   [[nodiscard]] const Grid<std::int32_t, Dim>& nearest_cells() const noexcept { return nearest_; }
   [[nodiscard]] const Field& field() const noexcept { return field_; }

@@ -128,7 +128,7 @@ class VdtSensorModelT {
   using Rotation = typename Traits::Rotation;
   using Vector = typename SpaceTraits<Dim>::Vector;
   using Matrix = typename SpaceTraits<Dim>::Matrix;
-  using Map = VdtMap<Dim>;
+  using Map = VdtField<Dim>;  // the dense VdtMap or a SparseVdtMap3
   using Observations = ObservationSet<Dim>;
   using Disparity = BeamDisparityT<Dim>;
   using Curvature = BeamCurvatureT<Dim>;
