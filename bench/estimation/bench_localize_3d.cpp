@@ -28,13 +28,7 @@ struct Fixture {
       const Pose3 x =
           pose3_from_xyz_rpy(1.5 + 0.7 * k, 2.5 + 0.2 * (k % 3), 1.2, 0.02, -0.01, 0.3 * k);
       const sim::Lidar3dScan s = sim::simulate_lidar3d_scan(room.occupancy, x, vlp16, rng);
-      ObservationSet3 obs;
-      obs.sigma_range = vlp16.sigma_range;
-      for (std::size_t i = 0; i < s.points.size(); ++i) {
-        if (!s.points[i].allFinite()) continue;
-        const double r = s.points[i].norm();
-        obs.add(Eigen::Vector3d::Zero(), s.points[i] / r, r, i);
-      }
+      ObservationSet3 obs = sim::lidar3d_observations(s, vlp16);
       truth.push_back(x);
       scans.push_back(std::move(obs));
     }

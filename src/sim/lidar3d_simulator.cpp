@@ -56,4 +56,19 @@ Lidar3dScan simulate_lidar3d_scan(const OccupancyGrid<3>& map, const Pose3& sens
   return scan;
 }
 
+ObservationSet3 lidar3d_observations(const Lidar3dScan& scan, const Lidar3dSpec& spec) {
+  ObservationSet3 obs;
+  obs.sigma_range = spec.sigma_range;
+  obs.range_max = spec.range_max;
+  for (std::size_t i = 0; i < scan.points.size(); ++i) {
+    if (!scan.points[i].allFinite()) {
+      ++obs.dropped_out_of_range;  // no return within the sensor's range
+      continue;
+    }
+    const double r = scan.points[i].norm();
+    obs.add(Eigen::Vector3d::Zero(), scan.points[i] / r, r, i);
+  }
+  return obs;
+}
+
 }  // namespace vdtnav::sim

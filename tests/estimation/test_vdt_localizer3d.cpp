@@ -51,15 +51,9 @@ const Drive& drive() {
 ObservationSet3 scan_at(const Pose3& pose, std::mt19937& rng) {
   sim::Lidar3dSpec spec;
   spec.azimuth_step = 2.0 * kPi / 360;  // 1 degree: 5760 rays
-  const sim::Lidar3dScan s = sim::simulate_lidar3d_scan(drive().room.occupancy, pose, spec, rng);
-  ObservationSet3 obs;
-  obs.sigma_range = spec.sigma_range;
-  for (std::size_t i = 0; i < s.points.size(); ++i) {
-    if (!s.points[i].allFinite()) continue;
-    const double r = s.points[i].norm();
-    obs.add(Eigen::Vector3d::Zero(), s.points[i] / r, r, i);
-  }
-  return obs.subsampled(3);
+  return sim::lidar3d_observations(
+             sim::simulate_lidar3d_scan(drive().room.occupancy, pose, spec, rng), spec)
+      .subsampled(3);
 }
 
 OdometryStep3 odometry(const Pose3& a, const Pose3& b, const VdtLocalizer3Options& o,

@@ -7,6 +7,7 @@
 #include <cstdio>
 
 #include "vdtnav/core/error.hpp"
+#include "vdtnav/core/file_extension.hpp"
 #include "vdtnav/io/sparse_vdt_map_file.hpp"
 #include "vdtnav/io/vdt_map_file.hpp"
 #include "vdtnav/octomap/octree_map.hpp"
@@ -15,16 +16,6 @@
 
 namespace vdtnav::tools {
 namespace {
-
-std::string lower_extension(const std::string& path) {
-  const std::size_t dot = path.find_last_of('.');
-  const std::size_t slash = path.find_last_of('/');
-  if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return {};
-  std::string ext = path.substr(dot);
-  std::transform(ext.begin(), ext.end(), ext.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return ext;
-}
 
 void say_grid(const OccupancyGrid<3>& g, bool quiet) {
   if (quiet) return;

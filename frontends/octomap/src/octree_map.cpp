@@ -11,20 +11,11 @@
 #include <fstream>
 #include <memory>
 
+#include "vdtnav/core/file_extension.hpp"
 #include "voxelize_octree.hpp"
 
 namespace vdtnav {
 namespace {
-
-std::string lower_extension(const std::string& path) {
-  const std::size_t dot = path.find_last_of('.');
-  const std::size_t slash = path.find_last_of('/');
-  if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return {};
-  std::string ext = path.substr(dot);
-  std::transform(ext.begin(), ext.end(), ext.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return ext;
-}
 
 std::unique_ptr<octomap::OcTree> read_binary_tree(std::istream& in, const std::string& path) {
   auto tree = std::make_unique<octomap::OcTree>(0.1);  // readBinary takes the file's resolution

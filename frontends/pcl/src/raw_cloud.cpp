@@ -228,16 +228,6 @@ pcl::PCLPointCloud2 read_pcd_or_ply(const std::string& path, const std::string& 
 
 }  // namespace
 
-std::string lower_extension(const std::string& path) {
-  const std::size_t dot = path.find_last_of('.');
-  const std::size_t slash = path.find_last_of('/');
-  if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return {};
-  std::string ext = path.substr(dot);
-  std::transform(ext.begin(), ext.end(), ext.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return ext;
-}
-
 RawCloud read_raw_cloud(const std::string& path) {
   const std::string ext = lower_extension(path);
   const bool text = ext == ".csv" || ext == ".txt" || ext == ".xyz";

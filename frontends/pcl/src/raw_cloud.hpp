@@ -8,7 +8,9 @@
 #include <string>
 
 #include <pcl/PCLPointCloud2.h>
+
 #include <Eigen/Core>
+#include "vdtnav/core/file_extension.hpp"
 
 namespace vdtnav::detail {
 
@@ -18,9 +20,6 @@ struct RawCloud {
   pcl::PCLPointCloud2 cloud;
   Eigen::Vector3d origin = Eigen::Vector3d::Zero();
 };
-
-/// The lower-case extension of `path` with its dot ("" when none).
-[[nodiscard]] std::string lower_extension(const std::string& path);
 
 /// Reads .pcd, .ply, text (.csv, .txt, .xyz) or legacy ASCII VTK (.vtk) by the extension; text and
 /// VTK points come as float64 fields x, y, z.

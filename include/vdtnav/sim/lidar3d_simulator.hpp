@@ -19,6 +19,7 @@
 
 #include "vdtnav/core/pose3.hpp"
 #include "vdtnav/map/grid.hpp"
+#include "vdtnav/sensor/observation_set.hpp"
 #include "vdtnav/sim/ray_casting.hpp"
 
 namespace vdtnav::sim {
@@ -51,5 +52,12 @@ struct Lidar3dScan {
 [[nodiscard]] Lidar3dScan simulate_lidar3d_scan(const OccupancyGrid<3>& map,
                                                 const Pose3& sensor_in_world,
                                                 const Lidar3dSpec& spec, std::mt19937& rng);
+
+/// \brief The scan's returns as observations in the sensor's frame (beams from its origin, the
+/// spec's range noise), `beam` the ray index; the no-return rays left out. What the tests and
+/// benchmarks feed the 3D localizers; a program reading real clouds goes through
+/// observations_from_cloud (vdtnav::pcl) instead.
+[[nodiscard]] ObservationSet3 lidar3d_observations(const Lidar3dScan& scan,
+                                                   const Lidar3dSpec& spec);
 
 }  // namespace vdtnav::sim
