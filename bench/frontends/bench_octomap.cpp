@@ -4,7 +4,8 @@
 //                            "3D build <= 25 ns/voxel" target and BM_VdtBuild3D measure;
 //   BM_VdtMapBuild3DOctomap: the whole VdtMap3::build (surface cells, transform, DT_v samples and
 //                            the spline prefilter of every component), as BM_VdtMapBuild3D.
-//   BM_VdtBuild3DSparse:     SparseVdtMap3::build from the list of occupied voxels (default band, 3 voxels),
+//   BM_VdtBuild3DSparse:     SparseVdtMap3::build from the list of occupied voxels (default band, 3
+//   voxels),
 //                            no dense grid; bytes_per_cell is the sparse map's memory per voxel of
 //                            the box (BM_VdtMapBuild3DOctomap's is the dense map's).
 // ns_per_cell is the build time per voxel of the grid.

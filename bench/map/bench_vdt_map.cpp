@@ -102,14 +102,14 @@ const Fixture<3>& fixture3() {
 /// The batch form (VdtMap::evaluate over a span of points), as the estimators call it: scans of
 /// `batch` consecutive points.
 template <int Dim>
-void lookup_batch(benchmark::State& state, const Fixture<Dim>& f, bool coherent,
+void lookup_batch(benchmark::State& state, const VdtField<Dim>& map,
+                  const std::vector<typename SpaceTraits<Dim>::Vector>& pts, double bytes_per_cell,
                   std::size_t batch) {
-  const auto& pts = coherent ? f.coherent : f.random;
   std::vector<VdtSample<Dim>> out(batch);
   std::size_t i = 0;
   const bench::PerItemTimer timer;
   for (auto _ : state) {
-    f.map.evaluate(pts.data() + i, batch, out.data());
+    map.evaluate(pts.data() + i, batch, out.data());
     benchmark::DoNotOptimize(out.data());
     benchmark::ClobberMemory();
     i += batch;
@@ -117,7 +117,7 @@ void lookup_batch(benchmark::State& state, const Fixture<Dim>& f, bool coherent,
   }
   timer.set(state, "ns_per_point", static_cast<double>(batch));
   state.counters["points"] = static_cast<double>(pts.size());
-  state.counters["bytes_per_cell"] = f.bytes_per_cell;
+  state.counters["bytes_per_cell"] = bytes_per_cell;
   state.counters["avx2"] = simd_level() == SimdLevel::kAvx2Fma ? 1.0 : 0.0;
 }
 
@@ -158,26 +158,6 @@ void lookup_sparse(benchmark::State& state, const Fixture<3>& f, bool coherent) 
   state.counters["bytes_per_cell"] = f.sparse_bytes_per_cell;
 }
 
-/// The sparse map's batch form on the same scans as lookup_batch<3> (BM_VdtLookupGradient3D/
-/// coherent_batch): the kernels prefetch the next points' bricks.
-void lookup_sparse_batch(benchmark::State& state, const Fixture<3>& f, std::size_t batch) {
-  const auto& pts = f.coherent;
-  std::vector<VdtSample<3>> out(batch);
-  std::size_t i = 0;
-  const bench::PerItemTimer timer;
-  for (auto _ : state) {
-    f.sparse.evaluate(pts.data() + i, batch, out.data());
-    benchmark::DoNotOptimize(out.data());
-    benchmark::ClobberMemory();
-    i += batch;
-    if (i + batch > pts.size()) i = 0;
-  }
-  timer.set(state, "ns_per_point", static_cast<double>(batch));
-  state.counters["points"] = static_cast<double>(pts.size());
-  state.counters["bytes_per_cell"] = f.sparse_bytes_per_cell;
-  state.counters["avx2"] = simd_level() == SimdLevel::kAvx2Fma ? 1.0 : 0.0;
-}
-
 // Registered by name so that the names stay exactly BM_VdtLookup<...>/<coherent|random>.
 const bool kRegistered = [] {
   benchmark::RegisterBenchmark("BM_VdtLookupGradient2D/coherent",
@@ -195,14 +175,17 @@ const bool kRegistered = [] {
   benchmark::RegisterBenchmark("BM_VdtLookupGradient3DSparse/random",
                                [](benchmark::State& s) { lookup_sparse(s, fixture3(), false); });
   benchmark::RegisterBenchmark("BM_VdtLookupGradient2D/coherent_batch", [](benchmark::State& s) {
-    lookup_batch<2>(s, fixture2(), true, 1081);
+    lookup_batch<2>(s, fixture2().map, fixture2().coherent, fixture2().bytes_per_cell, 1081);
   });
   benchmark::RegisterBenchmark("BM_VdtLookupGradient3D/coherent_batch", [](benchmark::State& s) {
-    lookup_batch<3>(s, fixture3(), true, 1081);
+    lookup_batch<3>(s, fixture3().map, fixture3().coherent, fixture3().bytes_per_cell, 1081);
   });
   benchmark::RegisterBenchmark(
       "BM_VdtLookupGradient3DSparse/coherent_batch",
-      [](benchmark::State& s) { lookup_sparse_batch(s, fixture3(), 1081); });
+      [](benchmark::State& s) {  // the same scans: the kernels prefetch the next points' bricks
+        lookup_batch<3>(s, fixture3().sparse, fixture3().coherent, fixture3().sparse_bytes_per_cell,
+                        1081);
+      });
   return true;
 }();
 
