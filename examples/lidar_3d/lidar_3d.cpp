@@ -111,26 +111,6 @@ std::vector<Pose3> true_poses(const std::vector<sim::TimedPose>& tour, double fl
   return poses;
 }
 
-/// A noisy odometry increment from a to b, drawn with the noise model the localizer assumes.
-OdometryStep3 noisy_odometry(const Pose3& a, const Pose3& b, double dt,
-                             const VdtLocalizer3Options& o, std::mt19937& rng) {
-  std::normal_distribution<double> n(0.0, 1.0);
-  const Pose3 d = a.inverse() * b;
-  const double st =
-      o.sigma_translation_per_metre * d.translation().norm() + o.sigma_translation_per_second * dt;
-  const double sr =
-      o.sigma_rotation_per_radian * so3_log(d.linear()).norm() + o.sigma_rotation_per_second * dt;
-  OdometryStep3 s;
-  s.dt = dt;
-  s.delta = d;
-  s.delta.translation() += st * Eigen::Vector3d(n(rng), n(rng), n(rng));
-  s.delta.linear() = so3_exp(sr * Eigen::Vector3d(n(rng), n(rng), n(rng))) * d.linear();
-  const Eigen::Vector3d rpy = rpy_of(b.linear());
-  s.roll = rpy.x() + o.sigma_imu_attitude * n(rng);
-  s.pitch = rpy.y() + o.sigma_imu_attitude * n(rng);
-  return s;
-}
-
 pcl::PointCloud<pcl::PointXYZ> to_pcl(const sim::Lidar3dScan& scan, int rings) {
   pcl::PointCloud<pcl::PointXYZ> c;
   c.reserve(scan.points.size());
@@ -270,7 +250,7 @@ int main(int argc, char** argv) {
       const ObservationSet3 obs = observations_from_cloud(cloud, co);
       readings_sum += obs.size();
       const OdometryStep3 odo =
-          k == 0 ? OdometryStep3{} : noisy_odometry(truth[k - 1], truth[k], 0.1, o6, rng);
+          k == 0 ? OdometryStep3{} : o6.noisy_odometry(truth[k - 1], truth[k], 0.1, rng);
       VdtOptimizationLocalizer3* locs[2] = {&loc6, &loc4};
       for (int m = 0; m < 2; ++m) {
         const auto s0 = Clock::now();

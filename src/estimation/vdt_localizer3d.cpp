@@ -28,6 +28,22 @@ VdtOptimizerOptions six_dof(VdtOptimizerOptions o) {
 
 }  // namespace
 
+OdometryStep3 VdtLocalizer3Options::noisy_odometry(const Pose3& a, const Pose3& b, double dt,
+                                                   std::mt19937& rng) const {
+  std::normal_distribution<double> n(0.0, 1.0);
+  const Pose3 d = a.inverse() * b;
+  const Eigen::Vector2d sigmas = odometry_sigmas(d, dt);
+  OdometryStep3 s;
+  s.dt = dt;
+  s.delta = d;
+  s.delta.translation() += sigmas[0] * Eigen::Vector3d(n(rng), n(rng), n(rng));
+  s.delta.linear() = so3_exp(sigmas[1] * Eigen::Vector3d(n(rng), n(rng), n(rng))) * d.linear();
+  const Eigen::Vector3d rpy = rpy_of(b.linear());
+  s.roll = rpy.x() + sigma_imu_attitude * n(rng);
+  s.pitch = rpy.y() + sigma_imu_attitude * n(rng);
+  return s;
+}
+
 VdtOptimizationLocalizer3::VdtOptimizationLocalizer3(const VdtField3& map,
                                                      const VdtLocalizer3Options& options)
     : options_(options),
@@ -94,15 +110,11 @@ Matrix6d VdtOptimizationLocalizer3::with_held_attitude(const ObservationSet3& ob
 LocalizationResult3 VdtOptimizationLocalizer3::update(const OdometryStep3& odometry,
                                                       const ObservationSet3& observations) {
   // 1. Prediction.
-  const Eigen::Vector3d step = odometry.delta.translation();
-  const double turn = so3_log(odometry.delta.linear()).norm();
   Pose3 guess = pose_ * odometry.delta;
   Matrix6d f = Matrix6d::Identity();
-  f.topRightCorner<3, 3>() = -skew(pose_.linear() * step);
-  const double st = options_.sigma_translation_per_metre * step.norm() +
-                    options_.sigma_translation_per_second * odometry.dt;
-  const double sr =
-      options_.sigma_rotation_per_radian * turn + options_.sigma_rotation_per_second * odometry.dt;
+  f.topRightCorner<3, 3>() = -skew(pose_.linear() * odometry.delta.translation());
+  const Eigen::Vector2d sigmas = options_.odometry_sigmas(odometry.delta, odometry.dt);
+  const double st = sigmas[0], sr = sigmas[1];
   Matrix6d q = Matrix6d::Zero();
   q.topLeftCorner<3, 3>().diagonal().setConstant(st * st);  // isotropic: any frame
   q.bottomRightCorner<3, 3>().diagonal().setConstant(sr * sr);

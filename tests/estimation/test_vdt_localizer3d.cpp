@@ -56,25 +56,6 @@ ObservationSet3 scan_at(const Pose3& pose, std::mt19937& rng) {
       .subsampled(3);
 }
 
-OdometryStep3 odometry(const Pose3& a, const Pose3& b, const VdtLocalizer3Options& o,
-                       std::mt19937& rng) {
-  std::normal_distribution<double> n(0.0, 1.0);
-  const Pose3 d = a.inverse() * b;
-  const double st =
-      o.sigma_translation_per_metre * d.translation().norm() + o.sigma_translation_per_second * 0.1;
-  const double sr =
-      o.sigma_rotation_per_radian * so3_log(d.linear()).norm() + o.sigma_rotation_per_second * 0.1;
-  OdometryStep3 s;
-  s.dt = 0.1;
-  s.delta = d;
-  s.delta.translation() += st * Eigen::Vector3d(n(rng), n(rng), n(rng));
-  s.delta.linear() = so3_exp(sr * Eigen::Vector3d(n(rng), n(rng), n(rng))) * d.linear();
-  const Eigen::Vector3d rpy = rpy_of(b.linear());
-  s.roll = rpy.x() + o.sigma_imu_attitude * n(rng);
-  s.pitch = rpy.y() + o.sigma_imu_attitude * n(rng);
-  return s;
-}
-
 Matrix6d start_covariance() {
   Matrix6d p = Matrix6d::Zero();
   p.diagonal() << 4e-4, 4e-4, 4e-4, 1e-4, 1e-4, 1e-4;
@@ -96,7 +77,7 @@ TEST(VdtLocalizer3, TracksAVlp16DriveWithAConsistentCovarianceInBothModes) {
   std::vector<double> nees6, nees4;
   double max_pos6 = 0.0, max_att6 = 0.0, max_pos4 = 0.0;
   for (std::size_t k = 1; k < d.truth.size(); ++k) {
-    const OdometryStep3 odo = odometry(d.truth[k - 1], d.truth[k], o6, rng);
+    const OdometryStep3 odo = o6.noisy_odometry(d.truth[k - 1], d.truth[k], 0.1, rng);
     const ObservationSet3 obs = scan_at(d.truth[k], rng);
     const LocalizationResult3 r6 = loc6.update(odo, obs);
     const LocalizationResult3 r4 = loc4.update(odo, obs);
@@ -186,7 +167,7 @@ TEST(VdtLocalizer3, ATeleportIsReportedLostAndNoWrongPoseConverged) {
     const bool moved = k >= 20;
     Pose3 where = d.truth[k];
     if (moved) where.translation() += jump;
-    const OdometryStep3 odo = odometry(d.truth[k - 1], d.truth[k], o, rng);
+    const OdometryStep3 odo = o.noisy_odometry(d.truth[k - 1], d.truth[k], 0.1, rng);
     const LocalizationResult3 r = loc.update(odo, scan_at(where, rng));
     if (!moved) {
       EXPECT_EQ(r.status, LocalizationStatus::kConverged) << k;

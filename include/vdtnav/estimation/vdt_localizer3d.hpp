@@ -22,6 +22,7 @@
 /// (H the cost's 6-DOF Gauss-Newton Hessian at the solution), with Sigma_rp the IMU's
 /// variance in the roll/pitch rows: every component has an honest variance (eval::nees works).
 
+#include <random>
 #include <string>
 
 #include "vdtnav/estimation/localizer.hpp"
@@ -66,6 +67,20 @@ struct VdtLocalizer3Options {
     return o;
   }();
   LostDetectionOptions lost;
+
+  /// \return the odometry noise (1 sigma) of an increment `delta` over `dt` seconds: translation
+  /// (metres, per axis) and rotation (radians, per axis), the model above. What the prediction
+  /// adds, and what a simulation that wants honest odometry draws.
+  [[nodiscard]] Eigen::Vector2d odometry_sigmas(const Pose3& delta, double dt) const {
+    return {sigma_translation_per_metre * delta.translation().norm() +
+                sigma_translation_per_second * dt,
+            sigma_rotation_per_radian * so3_log(delta.linear()).norm() +
+                sigma_rotation_per_second * dt};
+  }
+  /// \return the odometry step from pose a to pose b over `dt`, drawn with odometry_sigmas() and
+  /// the IMU's roll and pitch of b with sigma_imu_attitude (simulations, tests).
+  [[nodiscard]] OdometryStep3 noisy_odometry(const Pose3& a, const Pose3& b, double dt,
+                                             std::mt19937& rng) const;
 };
 
 /// \brief Algorithm 1 in SE(3) as a Localizer3D (names "vdt-opt-6dof", "vdt-opt-4dof").
