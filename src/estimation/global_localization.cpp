@@ -44,18 +44,11 @@ void GlobalLocalizationOptions::validate() const {
                "global localization: accept_fraction must be in (0, 1]");
 }
 
-struct GlobalLocalizer::Readings {
-  std::vector<Eigen::Vector2d> points;
-  std::vector<double> ranges;
-};
-
 GlobalLocalizer::GlobalLocalizer(const VdtMap2& map, const OccupancyGrid<2>& occupancy,
-                                 const GlobalLocalizationOptions& options)
+                                 const GlobalLocalizationOptions& options,
+                                 const MapKnowledge& knowledge)
     : map_(&map), options_(options), optimizer_(map, options.optimizer) {
   options_.validate();
-  VDTNAV_CHECK(
-      occupancy.size() == map.size() && std::abs(occupancy.resolution() - map.resolution()) < 1e-12,
-      "global localization: the occupancy grid must be the map's grid");
   width_ = map.size().x();
   height_ = map.size().y();
   const double h = map.resolution();
@@ -64,6 +57,11 @@ GlobalLocalizer::GlobalLocalizer(const VdtMap2& map, const OccupancyGrid<2>& occ
   const float tau2 = static_cast<float>(options_.truncation * options_.truncation);
   const auto& nearest = map.nearest_cells();
   const std::size_t n = static_cast<std::size_t>(width_) * height_;
+  // The occupancy may be on another grid than the map's (a map sampled from a fitted surface, a
+  // different resolution): it is looked up at the map's cell centres.
+  const bool same_grid =
+      occupancy.size() == map.size() && occupancy.frame().origin() == map.frame().origin() &&
+      occupancy.resolution() == h && occupancy.frame().yaw() == map.frame().yaw();
   // Level 0: min(D^2, tau^2) at cell centres, D to the nearest occupied cell's centre.
   std::vector<float> level0(n);
   std::vector<std::uint8_t> free0(n);
@@ -72,7 +70,15 @@ GlobalLocalizer::GlobalLocalizer(const VdtMap2& map, const OccupancyGrid<2>& occ
     const Eigen::Vector2i j = nearest.index_of(nearest[c]);
     const double d2 = (i - j).cast<double>().squaredNorm() * h * h;
     level0[c] = std::min(static_cast<float>(d2), tau2);
-    free0[c] = occupancy[c] ? 0 : 1;
+    const Eigen::Vector2d p = nearest.cell_center(i);
+    bool occupied = true;
+    if (same_grid) {
+      occupied = occupancy[c] != 0;
+    } else {
+      const Eigen::Vector2i o = occupancy.cell_of(p);
+      occupied = !occupancy.contains(o) || occupancy(o) != 0;
+    }
+    free0[c] = !occupied && knowledge.known(p) ? 1 : 0;
     if (free0[c] != 0) free_cells_.push_back(static_cast<std::int32_t>(c));
   }
   pooled_.push_back(std::move(level0));
@@ -122,12 +128,12 @@ GlobalLocalizer::Readings GlobalLocalizer::select_readings(const ScanPoints& sca
   return r;
 }
 
-double GlobalLocalizer::angular_step(const Readings& r) const {
+double GlobalLocalizer::angular_step(const Readings& r, double leaf_size) const {
   if (options_.angular_step > 0.0) return options_.angular_step;
   std::vector<double> ranges = r.ranges;
   const auto p90 = ranges.begin() + static_cast<std::ptrdiff_t>(0.9 * (ranges.size() - 1));
   std::nth_element(ranges.begin(), p90, ranges.end());
-  const double step = map_->resolution() / std::max(*p90, 1e-3);
+  const double step = leaf_size / std::max(*p90, 1e-3);
   return std::clamp(step, 0.25 * kPi / 180.0, 2.0 * kPi / 180.0);
 }
 
@@ -171,148 +177,183 @@ double GlobalLocalizer::bound(int level, int cx, int cy, const std::vector<Eigen
   return s;
 }
 
-Pose2 GlobalLocalizer::leaf_pose(const Leaf& leaf, double step) const {
-  const Eigen::Vector2d p = map_->frame().cell_center(Eigen::Vector2i(leaf.cx, leaf.cy));
-  return Pose2(p.x(), p.y(), wrap_angle(leaf.angle * step));
-}
-
 GlobalLocalizationResult GlobalLocalizer::localize(const ScanPoints& scan) const {
-  return search(scan, nullptr, 0.0);
+  Search search = start(scan);
+  search.run();
+  return finish(scan, search);
 }
 
 GlobalLocalizationResult GlobalLocalizer::localize_better(const ScanPoints& scan, const Pose2& than,
                                                           double margin) const {
-  VDTNAV_CHECK(std::isfinite(margin) && margin >= 0.0 && than.allFinite(),
-               "global localization: localize_better needs a finite pose and a margin >= 0");
-  return search(scan, &than, margin);
+  Search search = start(scan, &than, margin);
+  search.run();
+  return finish(scan, search);
 }
 
-GlobalLocalizationResult GlobalLocalizer::search(const ScanPoints& scan, const Pose2* than,
-                                                 double margin) const {
-  const auto t0 = Clock::now();
-  GlobalLocalizationResult out;
-  const Readings r = select_readings(scan);
-  if (r.points.size() < 3) {
-    out.result.status = LocalizationStatus::kTooFewObservations;
-    out.seconds = since(t0);
-    return out;
+GlobalLocalizer::Search GlobalLocalizer::start(const ScanPoints& scan, const Pose2* than,
+                                               double margin, int leaf_level) const {
+  VDTNAV_CHECK(leaf_level >= 0, "global localization: the leaf level must be >= 0");
+  if (than != nullptr) {
+    VDTNAV_CHECK(std::isfinite(margin) && margin >= 0.0 && than->allFinite(),
+                 "global localization: localize_better needs a finite pose and a margin >= 0");
   }
-  const double n_tau2 =
-      static_cast<double>(r.points.size()) * options_.truncation * options_.truncation;
+  const auto t0 = Clock::now();
+  Search s;
+  s.g_ = this;
+  const Readings r = select_readings(scan);
+  if (r.points.size() < 3) {  // done at once, no leaves: too few observations (finish())
+    s.seconds_ = since(t0);
+    return s;
+  }
+  s.n_tau2_ = static_cast<double>(r.points.size()) * options_.truncation * options_.truncation;
   // localize_better: only leaves scoring below `than`'s own leaf score (its cell, its exact
   // heading) less the margin are searched; none of them: nothing explains the scan better.
-  double cap = std::numeric_limits<double>::infinity();
+  s.cap_ = std::numeric_limits<double>::infinity();
   if (than != nullptr) {
     std::vector<Eigen::Vector2i> o;
     offsets(r, (*than)[2], &o);
     const Eigen::Vector2i c = map_->frame().cell_of(than->head<2>());
     const bool inside = c.x() >= 0 && c.y() >= 0 && c.x() < width_ && c.y() < height_;
-    cap = (inside ? bound(0, c.x(), c.y(), o) : n_tau2) - margin * n_tau2;
-    if (cap < 0.0) {
-      out.result.status = LocalizationStatus::kRefused;
-      out.seconds = since(t0);
-      return out;
+    s.cap_ = (inside ? bound(0, c.x(), c.y(), o) : s.n_tau2_) - margin * s.n_tau2_;
+    if (s.cap_ < 0.0) {
+      s.seconds_ = since(t0);
+      return s;
     }
   }
-  const double step = angular_step(r);
-  const int angles = static_cast<int>(std::ceil(2.0 * kPi / step - 1e-9));
-  std::vector<std::vector<Eigen::Vector2i>> offs(static_cast<std::size_t>(angles));
-  for (int a = 0; a < angles; ++a) offsets(r, a * 2.0 * kPi / angles, &offs[a]);
-  const double step_used = 2.0 * kPi / angles;
+  s.leaf_level_ = std::min(leaf_level, levels_);
+  const double leaf_size = map_->resolution() * (1 << s.leaf_level_);
+  const int angles = static_cast<int>(std::ceil(2.0 * kPi / angular_step(r, leaf_size) - 1e-9));
+  s.offsets_.resize(static_cast<std::size_t>(angles));
+  for (int a = 0; a < angles; ++a) offsets(r, a * 2.0 * kPi / angles, &s.offsets_[a]);
+  s.step_ = 2.0 * kPi / angles;
+  s.phase_ = Search::Phase::kRoots;
+  s.seconds_ = since(t0);
+  return s;
+}
 
-  struct Node {
-    double lb;
-    int angle, level, cx, cy;
-    bool operator<(const Node& o) const { return lb > o.lb; }  // min-heap
-  };
-  std::vector<Node> roots;
-  const int span = 1 << levels_;
-  for (int a = 0; a < angles; ++a) {
-    for (int cy = 0; cy < height_; cy += span) {
-      for (int cx = 0; cx < width_; cx += span) {
-        if (free_[levels_][static_cast<std::size_t>(cy) * width_ + cx] == 0) continue;
-        roots.push_back({bound(levels_, cx, cy, offs[a]), a, levels_, cx, cy});
-        ++out.nodes;
+void GlobalLocalizer::Search::children(const Node& node, double stop_at, std::vector<Node>* out) {
+  const int k = node.level - 1, half = 1 << k;
+  for (int dy : {0, half}) {
+    for (int dx : {0, half}) {
+      const int cx = node.cx + dx, cy = node.cy + dy;
+      if (cx >= g_->width_ || cy >= g_->height_) continue;
+      if (g_->free_[k][static_cast<std::size_t>(cy) * g_->width_ + cx] == 0) continue;
+      const double lb = g_->bound(k, cx, cy, offsets_[node.angle], stop_at);
+      ++nodes_;
+      if (lb <= stop_at) out->push_back({lb, node.angle, k, cx, cy});
+    }
+  }
+}
+
+bool GlobalLocalizer::Search::step(std::size_t boxes) {
+  if (done()) return true;
+  const auto t0 = Clock::now();
+  constexpr std::size_t kMax = std::numeric_limits<std::size_t>::max();
+  const std::size_t stop = boxes >= kMax - nodes_ ? kMax : nodes_ + std::max<std::size_t>(boxes, 1);
+  const GlobalLocalizer& g = *g_;
+  const int levels = g.levels_, span = 1 << levels;
+  const int angles = static_cast<int>(offsets_.size());
+  // 1. The roots: every free box of the coarsest level at every heading.
+  while (phase_ == Phase::kRoots && nodes_ < stop) {
+    if (cursor_angle_ >= angles) {
+      phase_ = Phase::kGreedy;
+      break;
+    }
+    if (g.free_[levels][static_cast<std::size_t>(cursor_y_) * g.width_ + cursor_x_] != 0) {
+      roots_.push_back({g.bound(levels, cursor_x_, cursor_y_, offsets_[cursor_angle_]),
+                        cursor_angle_, levels, cursor_x_, cursor_y_});
+      ++nodes_;
+    }
+    if ((cursor_x_ += span) >= g.width_) {
+      cursor_x_ = 0;
+      if ((cursor_y_ += span) >= g.height_) {
+        cursor_y_ = 0;
+        ++cursor_angle_;
       }
     }
   }
-  // A first leaf by greedy descent from the best few roots: every leaf worth popping (the best
+  // 2. A first leaf by greedy descent from the best few roots: every leaf worth popping (the best
   // and its alternatives) scores at most its score plus the margin, so nodes bounded above that
   // are never needed, and their bounds stop summing there.
-  const auto children = [&](const Node& node, double stop_at, std::vector<Node>* out_nodes) {
-    const int k = node.level - 1, half = 1 << k;
-    for (int dy : {0, half}) {
-      for (int dx : {0, half}) {
-        const int cx = node.cx + dx, cy = node.cy + dy;
-        if (cx >= width_ || cy >= height_) continue;
-        if (free_[k][static_cast<std::size_t>(cy) * width_ + cx] == 0) continue;
-        const double lb = bound(k, cx, cy, offs[node.angle], stop_at);
-        ++out.nodes;
-        if (lb <= stop_at) out_nodes->push_back({lb, node.angle, k, cx, cy});
-      }
-    }
-  };
-  double greedy = std::numeric_limits<double>::infinity();
-  {
-    std::vector<Node> order = roots;
+  if (phase_ == Phase::kGreedy) {
+    double greedy = std::numeric_limits<double>::infinity();
+    std::vector<Node> order = roots_;
     const std::size_t tries = std::min<std::size_t>(order.size(), 16);
     std::partial_sort(order.begin(), order.begin() + static_cast<std::ptrdiff_t>(tries),
                       order.end(), [](const Node& a, const Node& b) { return a.lb < b.lb; });
-    std::vector<Node> kids;
     for (std::size_t t = 0; t < tries; ++t) {
       Node node = order[t];
-      while (node.level > 0) {
-        kids.clear();
-        children(node, std::numeric_limits<double>::infinity(), &kids);
-        if (kids.empty()) break;
-        node = *std::min_element(kids.begin(), kids.end(),
+      while (node.level > leaf_level_) {
+        kids_.clear();
+        children(node, std::numeric_limits<double>::infinity(), &kids_);
+        if (kids_.empty()) break;
+        node = *std::min_element(kids_.begin(), kids_.end(),
                                  [](const Node& a, const Node& b) { return a.lb < b.lb; });
       }
-      if (node.level == 0) greedy = std::min(greedy, node.lb);
+      if (node.level == leaf_level_) greedy = std::min(greedy, node.lb);
     }
+    limit_ = std::min(greedy + g.options_.alternative_margin * n_tau2_, cap_);
+    for (const Node& n : roots_) {
+      if (n.lb <= limit_) heap_.push_back(n);
+    }
+    std::make_heap(heap_.begin(), heap_.end());
+    roots_ = std::vector<Node>();
+    phase_ = Phase::kBestFirst;
   }
-  double limit = std::min(greedy + options_.alternative_margin * n_tau2, cap);
-  std::priority_queue<Node> queue;
-  for (const Node& n : roots) {
-    if (n.lb <= limit) queue.push(n);
-  }
-  // Best-first: leaves pop in order of score; keep the best and distinct alternatives.
-  std::vector<Leaf> leaves;
-  std::vector<Pose2> poses;
-  std::vector<Node> kids;
-  while (!queue.empty()) {
-    const Node node = queue.top();
-    queue.pop();
-    if (node.lb > limit) break;
-    if (node.level == 0) {
-      const Leaf leaf{node.lb, node.angle, node.cx, node.cy};
-      const Pose2 pose = leaf_pose(leaf, step_used);
+  // 3. Best-first: leaves pop in order of score; keep the best and distinct alternatives.
+  while (phase_ == Phase::kBestFirst && nodes_ < stop) {
+    if (heap_.empty() || heap_.front().lb > limit_) {
+      phase_ = Phase::kDone;
+      break;
+    }
+    std::pop_heap(heap_.begin(), heap_.end());
+    const Node node = heap_.back();
+    heap_.pop_back();
+    if (node.level == leaf_level_) {
+      // The leaf box's centre (its cells clipped to the map).
+      const double half = 0.5 * ((1 << leaf_level_) - 1);
+      const Eigen::Vector2d u(std::min(node.cx + half, g.width_ - 1.0),
+                              std::min(node.cy + half, g.height_ - 1.0));
+      const Eigen::Vector2d p = g.map_->frame().world_point(u);
+      const Pose2 pose(p.x(), p.y(), wrap_angle(node.angle * step_));
       bool is_new = true;
-      for (const Pose2& q : poses) is_new = is_new && distinct(pose, q, options_);
+      for (const Pose2& q : poses_) is_new = is_new && distinct(pose, q, g.options_);
       if (!is_new) continue;
-      if (leaves.empty()) limit = std::min(limit, node.lb + options_.alternative_margin * n_tau2);
-      leaves.push_back(leaf);
-      poses.push_back(pose);
-      if (static_cast<int>(leaves.size()) >= options_.candidates) break;
+      if (poses_.empty()) {
+        limit_ = std::min(limit_, node.lb + g.options_.alternative_margin * n_tau2_);
+        best_score_ = node.lb;
+      }
+      poses_.push_back(pose);
+      if (static_cast<int>(poses_.size()) >= g.options_.candidates) phase_ = Phase::kDone;
       continue;
     }
-    kids.clear();
-    children(node, limit, &kids);
-    for (const Node& k : kids) queue.push(k);
+    kids_.clear();
+    children(node, limit_, &kids_);
+    for (const Node& k : kids_) {
+      heap_.push_back(k);
+      std::push_heap(heap_.begin(), heap_.end());
+    }
   }
-  const std::size_t nodes = out.nodes;
-  if (poses.empty()) {  // localize_better: nothing below the cap
-    out.result.status = LocalizationStatus::kRefused;
-    out.seconds = since(t0);
-    return out;
+  if (done()) heap_ = std::vector<Node>();
+  seconds_ += since(t0);
+  return done();
+}
+
+GlobalLocalizationResult GlobalLocalizer::finish(const ScanPoints& scan,
+                                                 const Search& search) const {
+  const auto t0 = Clock::now();
+  GlobalLocalizationResult out;
+  if (search.leaves().empty()) {
+    // Too few readings to search, or (localize_better) nothing below the cap.
+    out.result.status = search.n_tau2_ > 0.0 ? LocalizationStatus::kRefused
+                                             : LocalizationStatus::kTooFewObservations;
+  } else {
+    out = decide(scan, search.leaves());
+    out.best_leaf = search.leaves().front();
+    out.best_leaf_score = search.best_leaf_score();
   }
-  out = decide(scan, poses);
-  out.nodes = nodes;
-  if (!leaves.empty()) {
-    out.best_leaf = poses.front();
-    out.best_leaf_score = leaves.front().score;
-  }
-  out.seconds = since(t0);
+  out.nodes = search.nodes();
+  out.seconds = search.seconds() + since(t0);
   return out;
 }
 

@@ -241,10 +241,87 @@ TEST(GlobalLocalization, BadOptionsAndEmptyScans) {
   o = {};
   o.accept_fraction = 1.5;
   EXPECT_THROW(GlobalLocalizer(map, grid, o), ConfigError);
-  const OccupancyGrid<2> other(Eigen::Vector2i(10, 10), GridFrame<2>(0.1, Eigen::Vector2d::Zero()));
-  EXPECT_THROW(GlobalLocalizer(map, other), ConfigError);
   const GlobalLocalizer loc(map, grid);
   EXPECT_EQ(loc.localize(ScanPoints{}).result.status, LocalizationStatus::kTooFewObservations);
+  EXPECT_THROW((void)loc.start(ScanPoints{}, nullptr, 0.0, -1), ConfigError);
+}
+
+TEST(GlobalLocalization, AnAnytimeSearchSpreadOverStepsFindsWhatOneRunFinds) {
+  const auto& w = test::world();
+  const GlobalLocalizer loc(w.map, w.plan.occupancy);
+  std::mt19937 rng(7);
+  for (int trial = 0; trial < 3; ++trial) {
+    const Pose2 truth = random_free_pose(w.plan.occupancy, w.map, rng, 0.4);
+    const ScanPoints scan = scan_in(w.plan.occupancy, truth, 0.01, rng);
+    for (int leaf : {0, 2}) {
+      GlobalLocalizer::Search once = loc.start(scan, nullptr, 0.0, leaf);
+      once.run();
+      GlobalLocalizer::Search steps = loc.start(scan, nullptr, 0.0, leaf);
+      int calls = 0;
+      std::size_t before = 0;
+      while (!steps.step(5000)) {
+        // A step scores its budget, and at most one expansion (4 children) or the greedy
+        // descents between two roots phases past it.
+        ASSERT_LE(steps.nodes() - before, 5000U + 16U * 4U * 16U) << calls;
+        before = steps.nodes();
+        ++calls;
+      }
+      EXPECT_GT(calls, 3) << "the search must take several steps";
+      EXPECT_EQ(steps.nodes(), once.nodes());
+      ASSERT_EQ(steps.leaves().size(), once.leaves().size());
+      for (std::size_t k = 0; k < once.leaves().size(); ++k) {
+        EXPECT_EQ(steps.leaves()[k], once.leaves()[k]) << trial << " " << leaf << " " << k;
+      }
+      // The truth is among the leaves of the coarser search too (boxes of 4 x 4 cells).
+      bool found = false;
+      for (const Pose2& l : steps.leaves()) {
+        found |= (l.head<2>() - truth.head<2>()).norm() < 0.3 &&
+                 std::abs(wrap_angle(l[2] - truth[2])) < 0.1;
+      }
+      EXPECT_TRUE(found) << trial << " " << leaf;
+    }
+  }
+}
+
+TEST(GlobalLocalization, TheOccupancyMayLieOnAnotherGridThanTheMap) {
+  // The map sampled on a finer grid with another origin (a map sampled from a fitted surface):
+  // the robot is placed where the coarse occupancy is free, looked up at the map's cells.
+  const OccupancyGrid<2> coarse = small_room();
+  const GridFrame<2> fine_frame(0.05, coarse.frame().origin() + Eigen::Vector2d(0.025, -0.025));
+  OccupancyGrid<2> fine(Eigen::Vector2i(119, 101), fine_frame, 0);
+  for (int y = 0; y < fine.size().y(); ++y) {
+    for (int x = 0; x < fine.size().x(); ++x) {
+      const Eigen::Vector2i c = coarse.cell_of(fine.cell_center(Eigen::Vector2i(x, y)));
+      if (coarse.contains(c) && coarse(c)) fine(Eigen::Vector2i(x, y)) = 1;
+    }
+  }
+  const VdtMap2 map = VdtMap2::build(fine);
+  const GlobalLocalizer loc(map, coarse);
+  std::size_t free = 0;
+  for (int y = 0; y < fine.size().y(); ++y) {
+    for (int x = 0; x < fine.size().x(); ++x) {
+      const Eigen::Vector2i c = coarse.cell_of(fine.cell_center(Eigen::Vector2i(x, y)));
+      free += coarse.contains(c) && !coarse(c);
+    }
+  }
+  EXPECT_EQ(loc.free_cells(), free);
+  std::mt19937 rng(4);
+  const Pose2 truth = random_free_pose(coarse, VdtMap2::build(coarse), rng, 0.4);
+  const GlobalLocalizationResult r = loc.localize(scan_in(coarse, truth, 0.01, rng));
+  ASSERT_NE(r.result.status, LocalizationStatus::kRefused)  // accepted (the refinement may stop
+      << r.explained  // at its iteration limit) << (r.ambiguous ? " ambiguous" : "") << " at " <<
+                      // r.result.pose.transpose()
+      << " truth " << truth.transpose();
+  EXPECT_LT((r.result.pose.head<2>() - truth.head<2>()).norm(), 0.3);
+  // Unknown cells hold no robot: a knowledge grid that knows only the left half.
+  Grid<std::int8_t, 2> cells(coarse.size(), coarse.frame(), -1);
+  for (int y = 0; y < coarse.size().y(); ++y) {
+    for (int x = 0; x < 30; ++x)
+      cells(Eigen::Vector2i(x, y)) = coarse(Eigen::Vector2i(x, y)) ? 100 : 0;
+  }
+  const GlobalLocalizer half(map, coarse, {}, MapKnowledge(cells));
+  EXPECT_LT(half.free_cells(), free * 2 / 3);
+  EXPECT_GT(half.free_cells(), free / 3);
 }
 
 }  // namespace

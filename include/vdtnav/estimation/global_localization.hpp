@@ -24,6 +24,7 @@
 #include "vdtnav/estimation/localizer.hpp"
 #include "vdtnav/estimation/vdt_optimizer.hpp"
 #include "vdtnav/map/grid.hpp"
+#include "vdtnav/map/map_knowledge.hpp"
 #include "vdtnav/map/vdt_map.hpp"
 #include "vdtnav/sensor/laser_scan.hpp"
 
@@ -80,11 +81,17 @@ struct GlobalLocalizationResult {
 /// is const.
 class GlobalLocalizer {
  public:
-  /// \param map, occupancy must outlive the localizer; the robot is placed in occupancy's free
-  ///        cells (same grid as the map's).
-  /// \throws ConfigError for bad options or a grid that is not the map's.
+  class Search;
+
+  /// \param map must outlive the localizer (and every Search it starts).
+  /// \param occupancy where the robot cannot be: the map's occupied cells, on any grid (looked up
+  ///        at the map's cell centres; outside it, nowhere).
+  /// \param knowledge where the map knows what is there: the robot is placed in known free cells
+  ///        only (default: every free cell).
+  /// \throws ConfigError for bad options.
   GlobalLocalizer(const VdtMap2& map, const OccupancyGrid<2>& occupancy,
-                  const GlobalLocalizationOptions& options = {});
+                  const GlobalLocalizationOptions& options = {},
+                  const MapKnowledge& knowledge = {});
 
   /// \brief Branch and bound.
   [[nodiscard]] GlobalLocalizationResult localize(const ScanPoints& scan) const;
@@ -98,6 +105,18 @@ class GlobalLocalizer {
   [[nodiscard]] GlobalLocalizationResult localize_better(const ScanPoints& scan, const Pose2& than,
                                                          double margin) const;
 
+  /// \brief The branch and bound of localize() (or, with `than`, of localize_better()) as an
+  /// anytime computation: Search::step() scores at most a given number of boxes, so that a
+  /// tracker can spread a search over many scans; finish() refines and decides as localize().
+  /// \param leaf_level the search stops at boxes of 2^leaf_level cells (0: single cells), whose
+  ///        centres are the leaves, and takes headings in steps for that size: a coarser search
+  ///        whose leaves the optimizer's coarse levels still refine.
+  /// \throws ConfigError as localize_better() when `than` is given, or for a negative leaf_level.
+  [[nodiscard]] Search start(const ScanPoints& scan, const Pose2* than = nullptr,
+                             double margin = 0.0, int leaf_level = 0) const;
+  /// \brief The refinement and acceptance of the leaves of a finished search (its scan).
+  [[nodiscard]] GlobalLocalizationResult finish(const ScanPoints& scan, const Search& search) const;
+
   /// \brief LaMa's way: poses drawn uniformly over the free cells and headings, each scored as
   /// a leaf, until `seconds` of wall time (at least `min_samples`), then the same refinement and
   /// acceptance.
@@ -106,25 +125,24 @@ class GlobalLocalizer {
                                                          int min_samples = 100) const;
 
   [[nodiscard]] const GlobalLocalizationOptions& options() const noexcept { return options_; }
+  [[nodiscard]] const VdtMap2& map() const noexcept { return *map_; }
+  /// \return the cells where the robot may be placed (known free cells of the map's grid).
+  [[nodiscard]] std::size_t free_cells() const noexcept { return free_cells_.size(); }
 
  private:
-  struct Readings;  // the scored readings: robot-frame points and ranges
-  struct Leaf {
-    double score;
-    int angle, cx, cy;
+  struct Readings {  // the scored readings: robot-frame points and ranges
+    std::vector<Eigen::Vector2d> points;
+    std::vector<double> ranges;
   };
   [[nodiscard]] Readings select_readings(const ScanPoints& scan) const;
-  /// localize() (than null) and localize_better().
-  [[nodiscard]] GlobalLocalizationResult search(const ScanPoints& scan, const Pose2* than,
-                                                double margin) const;
-  [[nodiscard]] double angular_step(const Readings& r) const;
+  /// Headings for leaves of `leaf_size` metres.
+  [[nodiscard]] double angular_step(const Readings& r, double leaf_size) const;
   /// Cell offsets of the readings at heading phi (grid axes).
   void offsets(const Readings& r, double phi, std::vector<Eigen::Vector2i>* out) const;
   /// Truncated score of box (level, cx, cy) with the given offsets; stops summing (returning
   /// a value above it) once past stop_at.
   [[nodiscard]] double bound(int level, int cx, int cy, const std::vector<Eigen::Vector2i>& o,
                              double stop_at = std::numeric_limits<double>::infinity()) const;
-  [[nodiscard]] Pose2 leaf_pose(const Leaf& leaf, double step) const;
   /// Refines the leaves (distinct, best first) and decides.
   [[nodiscard]] GlobalLocalizationResult decide(const ScanPoints& scan,
                                                 const std::vector<Pose2>& starts) const;
@@ -139,6 +157,54 @@ class GlobalLocalizer {
   std::vector<std::vector<float>> pooled_;
   std::vector<std::vector<std::uint8_t>> free_;
   std::vector<std::int32_t> free_cells_;
+};
+
+/// \brief One branch and bound in progress (GlobalLocalizer::start): the boxes scored so far, the
+/// queue of those still open, the leaves found. Holds its localizer by pointer: it must outlive
+/// the search.
+class GlobalLocalizer::Search {
+ public:
+  Search() = default;
+
+  /// \brief Scores at most `boxes` more boxes (at least one step of the search's current phase).
+  /// \return done().
+  bool step(std::size_t boxes);
+  /// \brief step() until done.
+  void run() { step(std::numeric_limits<std::size_t>::max()); }
+
+  [[nodiscard]] bool done() const noexcept { return phase_ == Phase::kDone; }
+  /// \return boxes scored so far.
+  [[nodiscard]] std::size_t nodes() const noexcept { return nodes_; }
+  /// \return the distinct leaves found (best first; complete once done()): the centres of the
+  /// leaf boxes and headings of the search's grid.
+  [[nodiscard]] const std::vector<Pose2>& leaves() const noexcept { return poses_; }
+  /// \return the best leaf's score sum_i min(D_i^2, tau^2) (NaN before one is found).
+  [[nodiscard]] double best_leaf_score() const noexcept { return best_score_; }
+  /// \return wall time spent in step() so far, seconds.
+  [[nodiscard]] double seconds() const noexcept { return seconds_; }
+
+ private:
+  friend class GlobalLocalizer;
+  enum class Phase { kRoots, kGreedy, kBestFirst, kDone };
+  struct Node {
+    double lb;
+    int angle, level, cx, cy;
+    bool operator<(const Node& o) const { return lb > o.lb; }  // min-heap
+  };
+  /// The children of `node` bounded at most stop_at (all its free sub-boxes are scored).
+  void children(const Node& node, double stop_at, std::vector<Node>* out);
+
+  const GlobalLocalizer* g_ = nullptr;
+  Phase phase_ = Phase::kDone;
+  std::vector<std::vector<Eigen::Vector2i>> offsets_;  // per heading
+  double step_ = 0.0, n_tau2_ = 0.0, cap_ = 0.0, limit_ = 0.0;
+  int leaf_level_ = 0;
+  int cursor_angle_ = 0, cursor_x_ = 0, cursor_y_ = 0;  // the next root
+  std::vector<Node> roots_, heap_, kids_;
+  std::vector<Pose2> poses_;
+  double best_score_ = std::numeric_limits<double>::quiet_NaN();
+  std::size_t nodes_ = 0;
+  double seconds_ = 0.0;
 };
 
 }  // namespace vdtnav
