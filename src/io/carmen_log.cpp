@@ -463,4 +463,33 @@ void save_carmen_log(const std::string& path, const CarmenLog& log) {
   io_text::write_text_file(path, out);
 }
 
+double detect_no_return_range(const CarmenLog& log) {
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  constexpr double kBand = 0.25;  // metres: the pile's width
+  double top = -kInf;
+  for (const CarmenLaser& l : log.lasers) {
+    for (double r : l.scan.ranges) {
+      if (std::isfinite(r) && r > 0.0) top = std::max(top, r);
+    }
+  }
+  if (!std::isfinite(top)) return kInf;
+  std::size_t pile = 0, below = 0;  // in [top - band, top], and in the metre below that
+  double lowest = top;
+  for (const CarmenLaser& l : log.lasers) {
+    for (double r : l.scan.ranges) {
+      if (!std::isfinite(r) || r <= 0.0) continue;
+      if (r >= top - kBand) {
+        ++pile;
+        lowest = std::min(lowest, r);
+      } else if (r >= top - kBand - 1.0) {
+        ++below;
+      }
+    }
+  }
+  // Ten times as dense as below: the metre holds four bands.
+  const double density_below = static_cast<double>(below) * kBand / 1.0;
+  if (pile < 20 || static_cast<double>(pile) < 10.0 * std::max(1.0, density_below)) return kInf;
+  return lowest - 0.01;
+}
+
 }  // namespace vdtnav

@@ -133,6 +133,7 @@ TEST(CarmenLogIntel, CountsTimesAndGeometry) {
   const CarmenLog log = load_carmen_log(kIntel);
   ASSERT_EQ(log.lasers.size(), 910U);
   EXPECT_EQ(log.odometry.size(), 14541U);
+  EXPECT_NEAR(detect_no_return_range(log), 81.83 - 0.01, 1e-9);  // its no-return code
   EXPECT_EQ(log.skipped, (std::map<std::string, std::size_t>{{"NEFF", 910}}));
   EXPECT_EQ(log.comments, 0U);
   EXPECT_TRUE(log.params.empty());
@@ -266,6 +267,41 @@ TEST(CarmenLogKillian, CountsAndTheNoReturnOption) {
   dropped = 0;
   for (const CarmenLaser& l : cut.lasers) dropped += scan_points(l.scan).dropped_out_of_range;
   EXPECT_EQ(dropped, 4660U);
+  // Found in the readings themselves: the pile 51.05..51.16 (4660 readings within 0.25 m of the
+  // maximum, 25 in the metre below).
+  const double r = detect_no_return_range(log);
+  EXPECT_GT(r, 50.9);
+  EXPECT_LE(r, 51.05 - 0.01 + 1e-9);
+  dropped = 0;
+  for (CarmenLaser l : log.lasers) {
+    l.scan.range_max = r;
+    dropped += scan_points(l.scan).dropped_out_of_range;
+  }
+  EXPECT_EQ(dropped, 4660U);
+}
+
+TEST(CarmenLog, TheNoReturnCodeIsFoundWhereReadingsPileUpAtTheMaximum) {
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> real(0.2, 30.0);
+  const auto log_with = [&](double code, double code_share) {
+    CarmenLog log;
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    for (int k = 0; k < 200; ++k) {
+      CarmenLaser l;
+      for (int i = 0; i < 180; ++i) l.scan.ranges.push_back(u(rng) < code_share ? code : real(rng));
+      log.lasers.push_back(l);
+    }
+    return log;
+  };
+  // A code at 32.76 above real readings up to 30 m: found, just below the code.
+  EXPECT_NEAR(detect_no_return_range(log_with(32.76, 0.02)), 32.75, 1e-9);
+  // A code inside the readings' reach is no pile (as dense below): none.
+  EXPECT_EQ(detect_no_return_range(log_with(30.0, 0.0)), std::numeric_limits<double>::infinity());
+  // Too few to be a code (a few far walls at the maximum): none.
+  CarmenLog few = log_with(30.0, 0.0);
+  for (int i = 0; i < 5; ++i) few.lasers[i].scan.ranges[0] = 45.0;
+  EXPECT_EQ(detect_no_return_range(few), std::numeric_limits<double>::infinity());
+  EXPECT_EQ(detect_no_return_range(CarmenLog{}), std::numeric_limits<double>::infinity());
 }
 
 // ---------------------------------------------------------------- geometry and readings

@@ -37,6 +37,7 @@ struct LocalizeArgs {
   TimeWindow window;
   double sigma_range = 0.02;
   double max_range = 80.0;
+  bool max_range_given = false;  // else the log's own no-return code may lower it
   bool skip_malformed = false;
   bool quiet = false;
   bool strict = false;
@@ -72,7 +73,8 @@ void run_localize(const LocalizeArgs& a) {
   CarmenLogOptions lo;
   lo.max_range = a.max_range;
   lo.skip_malformed = a.skip_malformed;
-  const CarmenLog log = load_log(a.log, lo, a.time_base);
+  CarmenLog log = load_log(a.log, lo, a.time_base);
+  if (!a.max_range_given) apply_no_return_code(log, "localize");
   const std::vector<std::size_t> idx = scans_in(log, a.window);
   if (idx.empty()) {
     throw ConfigError(a.log + ": no laser message in the time window (the log has " +
@@ -264,8 +266,11 @@ void add_localize_command(CLI::App& app) {
   cmd->add_option("--sigma-range", args->sigma_range, "Range noise standard deviation, metres")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
-  cmd->add_option("--max-range", args->max_range, "Readings at or beyond this are no-returns")
-      ->capture_default_str();
+  CLI::Option* max_range =
+      cmd->add_option("--max-range", args->max_range,
+                      "Readings at or beyond this are no-returns (unset: 80, or lower where the "
+                      "log's readings pile up at a no-return code)")
+          ->capture_default_str();
   cmd->add_flag("--skip-malformed", args->skip_malformed, "Skip and count malformed log lines");
   auto* recover = cmd->add_flag(
       "--recover", args->recover,
@@ -277,7 +282,10 @@ void add_localize_command(CLI::App& app) {
   cmd->add_flag("--quiet", args->quiet, "No progress bar");
   cmd->add_flag("--strict", args->strict,
                 "Fail (exit 1) when fewer than 10 % of the scans localize, instead of warning");
-  cmd->callback([args] { run_localize(*args); });
+  cmd->callback([args, max_range] {
+    args->max_range_given = max_range->count() > 0;
+    run_localize(*args);
+  });
 }
 
 }  // namespace vdtnav::tools

@@ -23,6 +23,7 @@ struct MapArgs {
   TimeWindow window;
   double margin = 1.0;
   double max_range = 80.0;
+  bool max_range_given = false;  // else the log's own no-return code may lower it
   std::string time_base = "logger";
   bool skip_malformed = false;
   bool quiet = false;
@@ -38,7 +39,8 @@ void run_map(const MapArgs& a) {
   lo.max_range = a.max_range;
   lo.skip_malformed = a.skip_malformed;
   std::fprintf(stderr, "[map] reading %s\n", a.log.c_str());
-  const CarmenLog log = load_log(a.log, lo, a.time_base);
+  CarmenLog log = load_log(a.log, lo, a.time_base);
+  if (!a.max_range_given) apply_no_return_code(log, "map");
   if (!log.malformed_lines.empty()) {
     std::fprintf(stderr, "[map] skipped %zu malformed lines (first: line %zu)\n",
                  log.malformed_lines.size(), log.malformed_lines.front());
@@ -112,13 +114,18 @@ void add_map_command(CLI::App& app) {
   cmd->add_option("--margin", args->margin, "Free border around the data, metres (>= 0)")
       ->capture_default_str();
   add_time_base_option(*cmd, args->time_base);
-  cmd->add_option("--max-range", args->max_range,
-                  "Readings at or beyond this are no-returns: they clear, they mark nothing")
-      ->capture_default_str();
+  CLI::Option* max_range =
+      cmd->add_option("--max-range", args->max_range,
+                      "Readings at or beyond this are no-returns: they clear, they mark nothing "
+                      "(unset: 80, or lower where the log's readings pile up at a no-return code)")
+          ->capture_default_str();
   cmd->add_flag("--skip-malformed", args->skip_malformed,
                 "Skip and count malformed log lines instead of stopping at the first");
   cmd->add_flag("--quiet", args->quiet, "No progress bar");
-  cmd->callback([args] { run_map(*args); });
+  cmd->callback([args, max_range] {
+    args->max_range_given = max_range->count() > 0;
+    run_map(*args);
+  });
 }
 
 }  // namespace vdtnav::tools

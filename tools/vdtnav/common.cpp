@@ -1,6 +1,8 @@
 #include "common.hpp"
 
 #include <chrono>
+#include <cmath>
+#include <cstdio>
 
 #include "vdtnav/core/error.hpp"
 #include "vdtnav/io/tum_trajectory.hpp"
@@ -54,6 +56,25 @@ CarmenLog load_log(const std::string& path, const CarmenLogOptions& options,
     for (CarmenOdometry& o : log.odometry) o.time = o.ipc_time;
   }
   return log;
+}
+
+double apply_no_return_code(CarmenLog& log, const char* tag) {
+  const double r = detect_no_return_range(log);
+  if (!std::isfinite(r)) return r;
+  std::size_t lowered = 0;
+  for (CarmenLaser& l : log.lasers) {
+    if (r < l.scan.range_max) {
+      l.scan.range_max = r;
+      ++lowered;
+    }
+  }
+  if (lowered > 0) {
+    std::fprintf(stderr,
+                 "[%s] the log marks no return with readings from %.2f m: those are dropped "
+                 "(--max-range to choose another limit)\n",
+                 tag, r);
+  }
+  return r;
 }
 
 std::vector<std::size_t> scans_in(const CarmenLog& log, const TimeWindow& window) {

@@ -54,6 +54,11 @@ void add_time_base_option(CLI::App& app, std::string& time_base);
 [[nodiscard]] CarmenLog load_log(const std::string& path, const CarmenLogOptions& options,
                                  const std::string& time_base);
 
+/// \brief When --max-range was not given: the log's own no-return code (detect_no_return_range)
+/// lowers every scan's range_max to it, said on stderr with `tag`. \return the range used
+/// (+inf when the log has no code).
+double apply_no_return_code(CarmenLog& log, const char* tag);
+
 /// \brief Indices of the log's laser messages inside the window.
 [[nodiscard]] std::vector<std::size_t> scans_in(const CarmenLog& log, const TimeWindow& window);
 

@@ -113,6 +113,15 @@ void set_flaser_geometry(std::size_t n, LaserScan& scan);
 [[nodiscard]] CarmenLog load_carmen_log(const std::string& path,
                                         const CarmenLogOptions& options = {});
 
+/// \brief The range from which a log's readings are no-return codes, found in the readings
+/// themselves: a scanner writes "no return" as one value just past its reach (81.83 in the
+/// Intel lab log, 81.91 or 32.76 in others; 51.05-51.16 in MIT Killian Court), so the log's
+/// largest readings pile up within 0.25 m of its maximum, at least 20 of them and ten times as
+/// dense as in the metre below. Real far readings thin out towards the maximum instead.
+/// \return the lower edge of that pile (its smallest reading less 1 cm), or +inf when there is
+/// none (the scans' own range_max then decides).
+[[nodiscard]] double detect_no_return_range(const CarmenLog& log);
+
 /// \brief Writes a CARMEN log in plain text: PARAM lines (timestamps 0), then FLASER and ODOM
 /// lines merged in order of time (an ODOM before a laser of equal time). Every number is written
 /// in the shortest form that reads back as the same double (nan and inf as `nan`, `inf`).
