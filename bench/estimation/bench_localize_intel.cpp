@@ -27,6 +27,7 @@ namespace {
 struct IntelStudy {
   std::string error;  ///< why the benchmark cannot run, empty when it can
   OccupancyGrid<2> occupancy;
+  MapKnowledge knowledge;  ///< the map's unknown cells (what the last third did not see)
   std::unique_ptr<VdtMap2> vdt;
   std::vector<LaserScan> scans;
   std::vector<OdometryStep> steps;
@@ -54,7 +55,9 @@ const IntelStudy& intel() {
         map_poses.push_back(logs.corrected.lasers[i].pose);
         map_scans.push_back(logs.corrected.lasers[i].scan);
       }
-      s.occupancy = mapping::build_occupancy_map(map_poses, map_scans, {}).occupancy;
+      const mapping::OccupancyMap map = mapping::build_occupancy_map(map_poses, map_scans, {});
+      s.occupancy = map.occupancy;
+      s.knowledge = MapKnowledge(map.cells);
       s.vdt = std::make_unique<VdtMap2>(VdtMap2::build(s.occupancy));
       std::vector<std::size_t> idx(split);
       std::vector<double> times;
@@ -96,7 +99,8 @@ void localize_intel(benchmark::State& state, ScanSolver solver) {
   LocalizationResult::Work work;
   int lost = 0;
   for (auto _ : state) {
-    std::unique_ptr<Localizer2D> loc = make_localizer("vdt-opt", *s.vdt, s.occupancy, settings);
+    std::unique_ptr<Localizer2D> loc =
+        make_localizer("vdt-opt", *s.vdt, s.occupancy, settings, s.knowledge);
     loc->reset(s.start, p0);
     estimate.clear();
     statuses.clear();

@@ -159,7 +159,8 @@ int main(int argc, char** argv) {
     const LocalizerSettings settings = log_settings();
     const Eigen::Matrix3d p0 = Eigen::Vector3d(0.1 * 0.1, 0.1 * 0.1, 0.05 * 0.05).asDiagonal();
     for (const std::string& method : methods) {
-      std::unique_ptr<Localizer2D> loc = make_localizer(method, vdt, map.occupancy, settings);
+      std::unique_ptr<Localizer2D> loc =
+          make_localizer(method, vdt, map.occupancy, settings, MapKnowledge(map.cells));
       loc->reset(logs.corrected.lasers[0].pose, p0);
       Row r;
       r.method = method;

@@ -55,16 +55,17 @@ std::vector<Outcome> run(const Drive& drive, Localizer2D& localizer, const Optio
       const auto k = static_cast<std::size_t>(starts[seg] + j);
       // The first scan of the drive starts where the localizer was reset: no motion into it.
       const OdometryStep step = seg == 0 && j == 0 ? OdometryStep{} : drive.odometry[k];
+      const int ambiguous_before = recovering != nullptr ? recovering->ambiguous() : 0;
       results.push_back(localizer.update(step, drive.scans[k]));
       if (seg > 0 && j < options.within) {
         if (drive.scans[k].size() < 10) {
           ++unrecognizable;
-        } else if (results.back().work.global_searches > 0 && recovering != nullptr &&
-                   results.back().status == LocalizationStatus::kLost) {
-          const GlobalLocalizationResult& g = recovering->last_acquisition();
-          bool among = right(g.result.pose, drive.truth[k]);
-          for (const Pose2& a : g.alternatives) among = among || right(a, drive.truth[k]);
-          if (g.ambiguous && among) {
+        } else if (recovering != nullptr && recovering->ambiguous() > ambiguous_before) {
+          // Two distinct candidates passed the verification: is the truth among them?
+          bool among = false;
+          for (const Pose2& a : recovering->ambiguous_poses())
+            among = among || right(a, drive.truth[k]);
+          if (among) {
             ++unrecognizable;
           } else {
             ++other_refusals;

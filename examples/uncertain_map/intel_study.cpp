@@ -118,7 +118,8 @@ void intel_uncertain_map(const std::string& data, const std::string& out,
     s.vdt_opt.sensor.map_uncertainty = m.uncertainty;
     s.vdt_opt.sensor.map_sigma = m.map_sigma;
     s.vdt_opt.sensor.map_correlation_length = m.correlation_length;
-    std::unique_ptr<Localizer2D> loc = make_localizer("vdt-opt", *m.vdt, ogm.occupancy, s);
+    std::unique_ptr<Localizer2D> loc =
+        make_localizer("vdt-opt", *m.vdt, ogm.occupancy, s, MapKnowledge(ogm.cells));
     loc->reset(logs.corrected.lasers[0].pose, p0);
     eval::Trajectory2 est;
     std::vector<Eigen::Matrix3d> cov;

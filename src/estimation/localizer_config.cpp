@@ -250,36 +250,55 @@ void visit(V& v, GlobalLocalizationOptions& o) {
 }
 
 template <typename V>
+void visit(V& v, ScanAgreementOptions& o) {
+  v.number("explained_distance", o.explained_distance, "m",
+           "a reading with a smaller disparity is explained");
+  v.number("margin", o.margin, "m",
+           "a wall crossed within this of the endpoint or the sensor contradicts nothing; < 0: 2 "
+           "explained_distance + one map cell");
+  v.integer("max_readings", o.max_readings, "count", "readings weighed, evenly; 0: all");
+}
+
+template <typename V>
 void visit(V& v, RecoveryOptions& o) {
   v.flag("detect", o.detect,
-         "test a window of scans (vdt-opt, vdt-ekf) and report status lost when the map no "
-         "longer explains them");
+         "test a window of scans (vdt-opt, vdt-ekf) and report status lost when the map "
+         "contradicts them");
   v.flag("recover", o.recover,
-         "while lost, re-acquire by global localization (section global:); --recover / "
-         "--no-recover");
-  v.integer("window", o.lost.window, "scans", "W, scans whose mean explained fraction is tested");
+         "while lost or in doubt, search for the pose by global localization (section global:) "
+         "and adopt a clearly better one; --recover / --no-recover");
+  v.integer("window", o.lost.window, "scans", "W, scans whose agreement is pooled");
   v.integer("min_readings", o.min_readings, "count",
             "scans with fewer readings do not enter the window (they say nothing either way)");
-  v.number("lost_fraction", o.lost.lost_fraction, "fraction",
-           "lost when the window explains less than this (readings within "
-           "global.explained_distance)");
-  v.number("drop", o.lost.drop, "fraction",
-           "also lost when the window explains this much less than the track so far (its "
-           "baseline)...");
+  v.number("lost_contradiction", o.lost.lost_contradiction, "fraction",
+           "lost when the map contradicts this share of the window's judged readings (through a "
+           "wall, or ending in known free space)");
+  v.number("found_contradiction", o.lost.found_contradiction, "fraction",
+           "found again when the window's contradiction falls to this");
+  v.number("doubt_contradiction", o.lost.doubt_contradiction, "fraction",
+           "in doubt from this: search for a clearly better pose, not lost");
+  v.number("doubt_rise", o.lost.doubt_rise, "fraction",
+           "also in doubt when the window is contradicted this much more than the track's "
+           "baseline...");
   v.number("sigmas", o.lost.sigmas, "std. dev.",
-           "or this many standard deviations of the track's explained fraction, if more");
-  v.integer("baseline_scans", o.lost.baseline_scans, "scans",
-            "the baseline's exponential mean spans this many scans");
-  v.integer("max_attempt_gap", o.max_attempt_gap, "scans",
-            "while lost, global localization on lost scans 1, 2, 4, 8, ... then every this many");
-  v.number("check_drop", o.check_drop, "fraction",
-           "a smaller fall below the baseline asks global localization for a clearly better pose "
-           "(<= 0: never)");
-  v.number("check_margin", o.check_margin, "fraction of N tau^2",
-           "clearly better: a truncated score lower by this");
-  v.number("found_fraction", o.lost.found_fraction, "fraction",
-           "without recovery (recover: false), found again when the window explains this much; "
-           "with it, only a confirmed global localization ends a loss");
+           "... or this many standard deviations of the track's windows, if more");
+  v.integer("baseline_scans", o.lost.baseline_scans, "windows",
+            "the baseline's exponential mean spans this many windows");
+  v.number("min_judged", o.lost.min_judged, "fraction",
+           "the window decides only when the map judges this share of its readings (the rest "
+           "ends where the map knows nothing)");
+  v.integer("search_boxes", o.search_boxes, "boxes per update",
+            "the anytime global search's budget in each update");
+  v.number("search_leaf", o.search_leaf, "m",
+           "the search's leaf boxes (powers of two of the map's cell); headings to match");
+  v.integer("verify_scans", o.verify_scans, "scans",
+            "a candidate is tracked beside the track this long before it can be adopted");
+  v.number("verify_margin", o.verify_margin, "fraction",
+           "adopted only when contradicted this much less than the track over those scans");
+  v.number("doubt_margin", o.doubt_margin, "fraction of N tau^2",
+           "in doubt, search only for poses scoring this much better than the track");
+  v.section("agreement", "how a scan is weighed at a pose (explained, contradicted, unknown)",
+            [&](V& s) { visit(s, o.agreement); });
 }
 
 template <typename V>

@@ -26,15 +26,6 @@ LocalizerSettings log_settings() {
     o->map_correlation_length = 2.0;
     o->map_pose_sigma = -1.0;
   }
-  // Lost detection on a map drawn from scans: people, doors and clutter make windows of right
-  // poses fall by up to 0.3 below the track's baseline (Intel: 0.26-0.29 at 3 places in 910
-  // scans), so lost is a larger fall, and smaller ones are not checked (a global search costs
-  // seconds on such scans). Re-acquisition stays on: its candidates must explain a scan as the
-  // track did and be confirmed by the next one, which keeps the Intel study, whose map (the last
-  // third of the log) lacks places of the first two, at 0.030 m (1.65 m when any accepted
-  // acquisition was adopted).
-  s.recovery.lost.drop = 0.35;
-  s.recovery.check_drop = 0.0;
   return s;
 }
 
@@ -52,7 +43,8 @@ LocalizerSettings cloud_settings() {
 
 std::unique_ptr<Localizer2D> make_localizer(const std::string& method, const VdtMap2& vdt,
                                             const OccupancyGrid<2>& occupancy,
-                                            const LocalizerSettings& settings) {
+                                            const LocalizerSettings& settings,
+                                            const MapKnowledge& knowledge) {
   if (method == "vdt-opt" || method == "vdt-ekf") {
     std::unique_ptr<Localizer2D> tracker;
     if (method == "vdt-opt") {
@@ -64,7 +56,7 @@ std::unique_ptr<Localizer2D> make_localizer(const std::string& method, const Vdt
     GlobalLocalizationOptions global = settings.global;
     global.optimizer = settings.vdt_opt;
     return std::make_unique<RecoveringLocalizer>(std::move(tracker), vdt, occupancy, global,
-                                                 settings.recovery);
+                                                 settings.recovery, knowledge);
   }
   if (method == "udt-opt")
     return std::make_unique<UdtOptimizationLocalizer>(occupancy, settings.udt);

@@ -10,12 +10,16 @@ namespace vdtnav {
 
 void LostDetectionOptions::validate() const {
   VDTNAV_CHECK(window >= 1, "lost detection: window must be >= 1 scan");
-  VDTNAV_CHECK(std::isfinite(lost_fraction) && lost_fraction >= 0.0 && lost_fraction <= 1.0,
-               "lost detection: lost_fraction must be in [0, 1]");
-  VDTNAV_CHECK(
-      std::isfinite(found_fraction) && found_fraction >= lost_fraction && found_fraction <= 1.0,
-      "lost detection: found_fraction must be in [lost_fraction, 1]");
-  VDTNAV_CHECK(std::isfinite(drop) && drop > 0.0, "lost detection: drop must be > 0");
+  const auto fraction = [](double v) { return std::isfinite(v) && v >= 0.0 && v <= 1.0; };
+  VDTNAV_CHECK(fraction(lost_contradiction) && lost_contradiction > 0.0,
+               "lost detection: lost_contradiction must be in (0, 1]");
+  VDTNAV_CHECK(fraction(found_contradiction) && found_contradiction < lost_contradiction,
+               "lost detection: found_contradiction must be in [0, lost_contradiction)");
+  VDTNAV_CHECK(fraction(doubt_contradiction) && doubt_contradiction <= lost_contradiction,
+               "lost detection: doubt_contradiction must be in [0, lost_contradiction]");
+  VDTNAV_CHECK(fraction(min_judged), "lost detection: min_judged must be in [0, 1]");
+  VDTNAV_CHECK(std::isfinite(doubt_rise) && doubt_rise > 0.0,
+               "lost detection: doubt_rise must be > 0");
   VDTNAV_CHECK(std::isfinite(sigmas) && sigmas >= 0.0, "lost detection: sigmas must be >= 0");
   VDTNAV_CHECK(baseline_scans >= 1, "lost detection: baseline_scans must be >= 1");
 }
@@ -24,62 +28,55 @@ LostDetector::LostDetector(const LostDetectionOptions& options) : options_(optio
   options_.validate();
 }
 
-bool LostDetector::update(double explained) {
-  if (!std::isfinite(explained)) explained = 0.0;  // nothing measured: nothing explained
-  window_.push_back(explained);
-  sum_ += explained;
-  double leaving = std::numeric_limits<double>::quiet_NaN();
+bool LostDetector::update(const ScanAgreement& scan) {
+  window_.push_back(scan);
+  sum_ += scan;
   if (static_cast<int>(window_.size()) > options_.window) {
-    leaving = window_.front();
-    sum_ -= leaving;
+    sum_ -= window_.front();
     window_.pop_front();
   }
-  // Only a full window decides (one poorly explained first scan is not a lost track).
-  if (static_cast<int>(window_.size()) < options_.window) return lost_;
-  const double mean = window_mean();
-  if (lost_) {
-    lost_ = mean < options_.found_fraction;  // found again without an acquisition
-    if (!lost_) restart_baseline();
+  // Only a full window that the map judges enough of decides; otherwise the state is kept.
+  decided_ = static_cast<int>(window_.size()) >= options_.window && sum_.judged() > 0 &&
+             sum_.judged() >= options_.min_judged * sum_.readings;
+  if (!decided_) {
+    doubt_ = false;
     return lost_;
   }
-  if (std::isnan(baseline_)) {
-    restart_baseline();
-    return lost_;
-  }
-  const double margin = std::max(options_.drop, options_.sigmas * spread());
-  if (mean < options_.lost_fraction || baseline_ - mean > margin) {
-    lost_ = true;
-    return lost_;
-  }
-  // The track holds: the scan leaving the window joins its baseline and spread (exponential
-  // weights). Scans join only once they are past the window, so that a fall the window is
-  // still testing never lowers the baseline nor widens the spread it is tested against.
-  if (!std::isnan(leaving)) {
-    const double a = 1.0 / options_.baseline_scans, d = leaving - baseline_;
-    baseline_ += a * d;
-    variance_ = (1.0 - a) * (variance_ + a * d * d);
+  const double c = sum_.contradiction();
+  lost_ = lost_ ? c > options_.found_contradiction : c >= options_.lost_contradiction;
+  const bool risen = !std::isnan(baseline_) &&
+                     c - baseline_ > std::max(options_.doubt_rise, options_.sigmas * spread());
+  doubt_ = !lost_ && (c >= options_.doubt_contradiction || risen);
+  // The track's own windows join its baseline W windows after they were tested, and only those
+  // of a track in good standing.
+  if (lost_ || doubt_) {
+    tested_.clear();
+  } else {
+    tested_.push_back(c);
+    if (static_cast<int>(tested_.size()) > options_.window) {
+      const double joining = tested_.front();
+      tested_.pop_front();
+      if (std::isnan(baseline_)) {
+        baseline_ = joining;
+        variance_ = 0.0;
+      } else {
+        const double a = 1.0 / options_.baseline_scans, d = joining - baseline_;
+        baseline_ += a * d;
+        variance_ = (1.0 - a) * (variance_ + a * d * d);
+      }
+    }
   }
   return lost_;
 }
 
-void LostDetector::reset() {
-  window_.clear();
-  sum_ = 0.0;
-  baseline_ = variance_ = std::numeric_limits<double>::quiet_NaN();
-  lost_ = false;
-}
-
-void LostDetector::restart_baseline() {
-  baseline_ = window_mean();
-  double v = 0.0;
-  for (double e : window_) v += (e - baseline_) * (e - baseline_);
-  variance_ = v / static_cast<double>(window_.size());
-}
-
 double LostDetector::spread() const noexcept { return std::sqrt(variance_); }
 
-double LostDetector::window_mean() const noexcept {
-  return window_.empty() ? 1.0 : sum_ / static_cast<double>(window_.size());
+void LostDetector::reset() {
+  window_.clear();
+  tested_.clear();
+  sum_ = ScanAgreement{};
+  baseline_ = variance_ = std::numeric_limits<double>::quiet_NaN();
+  lost_ = doubt_ = decided_ = false;
 }
 
 }  // namespace vdtnav

@@ -8,121 +8,221 @@
 
 namespace vdtnav {
 
+namespace {
+
+bool distinct(const Pose2& a, const Pose2& b, const GlobalLocalizationOptions& o) {
+  return (a.head<2>() - b.head<2>()).norm() > o.distinct_distance ||
+         std::abs(wrap_angle(a[2] - b[2])) > o.distinct_angle;
+}
+
+}  // namespace
+
+void RecoveryOptions::validate() const {
+  VDTNAV_CHECK(min_readings >= 0, "recovery: min_readings must be >= 0");
+  VDTNAV_CHECK(search_boxes >= 1, "recovery: search_boxes must be >= 1");
+  VDTNAV_CHECK(verify_scans >= 1, "recovery: verify_scans must be >= 1");
+  VDTNAV_CHECK(std::isfinite(search_leaf), "recovery: search_leaf must be finite");
+  VDTNAV_CHECK(std::isfinite(verify_margin) && verify_margin >= 0.0 && verify_margin <= 1.0,
+               "recovery: verify_margin must be in [0, 1]");
+  VDTNAV_CHECK(std::isfinite(doubt_margin) && doubt_margin >= 0.0,
+               "recovery: doubt_margin must be >= 0");
+  lost.validate();
+  agreement.validate();
+}
+
 RecoveringLocalizer::RecoveringLocalizer(std::unique_ptr<Localizer2D> tracker, const VdtMap2& map,
                                          const OccupancyGrid<2>& occupancy,
                                          const GlobalLocalizationOptions& global,
-                                         const RecoveryOptions& options)
+                                         const RecoveryOptions& options,
+                                         const MapKnowledge& knowledge)
     : tracker_(std::move(tracker)),
+      map_(&map),
+      knowledge_(knowledge),
       model_(map, global.optimizer.sensor),
-      global_(map, occupancy, global),
+      global_(map, occupancy, global, knowledge),
+      optimizer_(map, global.optimizer),
       options_(options),
       detector_(options.lost) {
   VDTNAV_CHECK(tracker_ != nullptr, "recovering localizer: no tracker");
   options_.validate();
 }
 
-void RecoveryOptions::validate() const {
-  VDTNAV_CHECK(min_readings >= 0, "recovery: min_readings must be >= 0");
-  VDTNAV_CHECK(max_attempt_gap >= 1, "recovery: max_attempt_gap must be >= 1");
-  VDTNAV_CHECK(std::isfinite(check_drop) && std::isfinite(check_margin) && check_margin >= 0.0,
-               "recovery: check_drop must be finite and check_margin >= 0");
-  lost.validate();
-}
-
 void RecoveringLocalizer::reset(const Pose2& pose, const Eigen::Matrix3d& covariance) {
   tracker_->reset(pose, covariance);
   detector_.reset();
-  lost_ = candidate_ = false;
+  drop_search();
 }
 
-void RecoveringLocalizer::begin_loss() {
-  const double b = detector_.baseline();
-  before_loss_ = std::isnan(b) ? 0.0 : b;
-  lost_scans_ = next_attempt_ = 0;
-  candidate_ = false;
+void RecoveringLocalizer::drop_search() {
+  search_.reset();
+  candidates_.clear();
 }
 
-double RecoveringLocalizer::acceptable(double baseline) const {
-  return std::max(global_.options().accept_fraction, baseline - options_.lost.drop);
+void RecoveringLocalizer::verify(const OdometryStep& odometry, const ScanPoints& observations,
+                                 const ScanAgreement& track) {
+  const LostDetectionOptions& lo = options_.lost;
+  std::vector<Candidate> kept;
+  for (Candidate& c : candidates_) {
+    const Pose2 predicted = compose(c.pose, odometry.delta);
+    c.last = optimizer_.solve(observations, predicted);
+    if (c.last.status == LocalizationStatus::kDiverged) continue;
+    c.pose = c.last.pose;
+    const ScanAgreement a =
+        scan_agreement(model_, *map_, knowledge_, observations, c.pose, options_.agreement);
+    c.last.explained = a.explained_fraction();
+    c.own += a;
+    c.track += track;
+    ++c.scans;
+    // Contradicted as a lost track would be: not the place.
+    const bool judged = c.own.judged() > 0 && c.own.judged() >= lo.min_judged * c.own.readings;
+    if (c.scans >= 2 && judged && c.own.contradiction() >= lo.lost_contradiction) continue;
+    kept.push_back(std::move(c));
+  }
+  candidates_ = std::move(kept);
+}
+
+ScanAgreement RecoveringLocalizer::near_agreement(const ScanPoints& observations,
+                                                  const Pose2& estimate) {
+  if (agreement_.contradiction() < options_.lost.doubt_contradiction) return agreement_;
+  // A tracking error the tracker may still correct (a heading off by a few degrees puts the far
+  // readings through walls) is not a lost track: weigh the pose the map's optimizer reaches from
+  // the best start of a window around the estimate (a distinct pose's half-widths), and keep the
+  // less contradicted.
+  GuessSearchOptions w;
+  w.window_xy = 0.5 * global_.options().distinct_distance;
+  w.window_yaw = 0.5 * global_.options().distinct_angle;
+  w.steps_xy = 5;
+  w.steps_yaw = 21;
+  w.max_beams = 120;
+  w.truncation = global_.options().truncation;
+  const Pose2 start = search_guess(model_, observations, estimate, w);
+  const LocalizationResult near = optimizer_.solve(observations, start);
+  if (near.status == LocalizationStatus::kDiverged ||
+      distinct(near.pose, estimate, global_.options())) {
+    return agreement_;
+  }
+  const ScanAgreement a =
+      scan_agreement(model_, *map_, knowledge_, observations, near.pose, options_.agreement);
+  return a.contradiction() < agreement_.contradiction() ? a : agreement_;
+}
+
+std::optional<std::size_t> RecoveringLocalizer::choose() {
+  const LostDetectionOptions& lo = options_.lost;
+  std::vector<std::size_t> passed;
+  bool pending = false;
+  for (std::size_t k = 0; k < candidates_.size(); ++k) {
+    const Candidate& c = candidates_[k];
+    if (c.scans < options_.verify_scans) {
+      pending = true;
+      continue;
+    }
+    const bool judged = c.own.judged() > 0 && c.own.judged() >= lo.min_judged * c.own.readings;
+    if (judged && c.own.contradiction() <= lo.found_contradiction &&
+        c.own.contradiction() <= c.track.contradiction() - options_.verify_margin &&
+        c.own.explained_fraction() >= c.track.explained_fraction()) {
+      passed.push_back(k);
+    }
+  }
+  if (pending) return std::nullopt;  // every candidate is judged on the same scans
+  if (passed.empty()) {              // none is the place (or none could be judged yet)
+    candidates_.clear();
+    return std::nullopt;
+  }
+  // The least contradicted; another distinct one that passes within global localization's
+  // ambiguity margin of it makes the place ambiguous.
+  std::size_t best = passed.front();
+  for (std::size_t k : passed) {
+    if (candidates_[k].own.contradiction() < candidates_[best].own.contradiction()) best = k;
+  }
+  const GlobalLocalizationOptions& go = global_.options();
+  for (std::size_t k : passed) {
+    if (distinct(candidates_[k].pose, candidates_[best].pose, go) &&
+        candidates_[k].own.contradiction() <=
+            candidates_[best].own.contradiction() + go.ambiguity_margin) {
+      ++ambiguous_;
+      ambiguous_poses_.clear();
+      for (std::size_t j : passed) ambiguous_poses_.push_back(candidates_[j].pose);
+      candidates_.clear();
+      return std::nullopt;
+    }
+  }
+  return best;
 }
 
 LocalizationResult RecoveringLocalizer::update(const OdometryStep& odometry,
                                                const ScanPoints& observations) {
   LocalizationResult r = tracker_->update(odometry, observations);
-  const double distance = global_.options().explained_distance;
-  r.explained = explained_fraction(model_, observations, r.pose, distance);
+  agreement_ = scan_agreement(model_, *map_, knowledge_, observations, r.pose, options_.agreement);
+  r.explained = agreement_.explained_fraction();
   if (!options_.detect) return r;
   const bool informative = static_cast<int>(observations.size()) >= options_.min_readings;
-  if (candidate_ && informative) {
-    // The tracker was restarted at the candidate on the previous scan and has just tracked this
-    // one from it: confirmed when it explains this scan at the level the candidate had to.
-    candidate_ = false;
-    if (r.status == LocalizationStatus::kConverged && r.explained >= acceptable(before_loss_)) {
-      ++recoveries_;
-      detector_.reset();
-      lost_ = false;
-      return r;
-    }
-  }
-  if (informative) {
-    const bool detector_lost = detector_.update(r.explained);
-    // With recovery, only a confirmed acquisition ends a loss (see RecoveryOptions::recover).
-    const bool was_lost = lost_;
-    lost_ = options_.recover ? (lost_ || detector_lost) : detector_lost;
-    if (lost_ && !was_lost) begin_loss();
-  }
-  ++since_check_;
-  if (!lost_) {
-    // A smaller fall: is there a pose that explains the scan clearly better? (file comment)
-    const double b = detector_.baseline();
-    if (options_.recover && options_.check_drop > 0.0 && !std::isnan(b) &&
-        b - detector_.window_mean() > options_.check_drop && since_check_ >= options_.lost.window &&
-        informative) {
-      since_check_ = 0;
-      last_acquisition_ = global_.localize_better(observations, r.pose, options_.check_margin);
-      r.work.global_searches += 1;
-      if (last_acquisition_.result.status == LocalizationStatus::kConverged &&
-          last_acquisition_.explained >= acceptable(b)) {
+  if (informative) detector_.update(near_agreement(observations, r.pose));
+  const bool wrong = detector_.lost() || detector_.in_doubt();
+  if (options_.recover && !wrong && detector_.decided()) {
+    drop_search();  // the map agrees with the track: nothing to replace it with
+  } else if (options_.recover && !informative) {
+    // Nothing to weigh: the candidates and the search's leaves follow the odometry.
+    for (Candidate& c : candidates_) c.pose = compose(c.pose, odometry.delta);
+    if (search_) since_search_ = compose(since_search_, odometry.delta);
+  } else if (options_.recover) {
+    // 1. The candidates on this scan, beside the track.
+    if (!candidates_.empty()) {
+      r.work.candidates = static_cast<int>(candidates_.size());
+      verify(odometry, observations, agreement_);
+      if (const std::optional<std::size_t> k = choose()) {
+        const Candidate c = candidates_[*k];
+        const double h = map_->resolution();
+        const Eigen::Matrix3d cov =
+            c.last.has_covariance
+                ? c.last.covariance
+                : Eigen::Vector3d(h * h, h * h, 1e-4).asDiagonal().toDenseMatrix();
+        tracker_->reset(c.pose, cov);
+        detector_.reset();
+        drop_search();
         ++recoveries_;
-        return adopt(r);
+        LocalizationResult out = c.last;
+        out.work = r.work;
+        out.iterations += r.iterations;
+        agreement_ =
+            scan_agreement(model_, *map_, knowledge_, observations, c.pose, options_.agreement);
+        return out;
       }
     }
-    return r;
+    // 2. The search: started on this scan when there is none and nothing to verify (anywhere
+    // when lost, clearly better than the track in doubt), advanced by the budget.
+    if (search_) {
+      since_search_ = compose(since_search_, odometry.delta);
+    } else if (candidates_.empty() && wrong) {
+      const int leaf = static_cast<int>(
+          std::floor(std::log2(std::max(1.0, options_.search_leaf / map_->resolution())) + 1e-9));
+      search_ = detector_.lost()
+                    ? global_.start(observations, nullptr, 0.0, leaf)
+                    : global_.start(observations, &r.pose, options_.doubt_margin, leaf);
+      since_search_ = Pose2::Zero();
+    }
+    if (search_) {
+      const std::size_t before = search_->nodes();
+      search_->step(static_cast<std::size_t>(options_.search_boxes));
+      r.work.search_boxes = static_cast<int>(search_->nodes() - before);
+      if (search_->done()) {
+        ++searches_;
+        r.work.global_searches = 1;
+        // The leaves are poses at the search's scan: carried forward by the odometry since.
+        for (const Pose2& leaf : search_->leaves()) {
+          Candidate c;
+          c.pose = compose(leaf, since_search_);
+          if (distinct(c.pose, r.pose, global_.options())) candidates_.push_back(c);
+        }
+        search_.reset();
+      }
+    }
   }
-  r.status = LocalizationStatus::kLost;
-  if (!options_.recover || !informative) return r;
-  // Lost: an attempt on scans 1, 2, 4, 8, ... of the loss, then every max_attempt_gap.
-  const int i = lost_scans_++;
-  if (i != next_attempt_) return r;
-  next_attempt_ = i + std::min(std::max(1, i), options_.max_attempt_gap);
-  last_acquisition_ = global_.localize(observations);
-  r.work.global_searches += 1;
-  const GlobalLocalizationResult& g = last_acquisition_;
-  if (g.result.status != LocalizationStatus::kConverged || g.explained < acceptable(before_loss_)) {
-    return r;
+  if (detector_.lost()) {
+    r.status = LocalizationStatus::kLost;
+  } else if (detector_.in_doubt() && r.status == LocalizationStatus::kConverged) {
+    r.status = LocalizationStatus::kRefused;  // in doubt: not a localization on the map
   }
-  // A candidate: the tracker restarts there; the next informative scan confirms it or not.
-  LocalizationResult out = adopt(r);
-  out.status = LocalizationStatus::kLost;
-  lost_ = true;
-  candidate_ = true;
-  return out;
-}
-
-LocalizationResult RecoveringLocalizer::adopt(const LocalizationResult& tracked) {
-  const GlobalLocalizationResult& g = last_acquisition_;
-  LocalizationResult out = g.result;
-  out.explained = g.explained;
-  out.work.global_searches = tracked.work.global_searches;
-  out.iterations += tracked.iterations;
-  // Without a covariance (a refinement that could not compute one): a cell and a heading step.
-  const double h = model_.map().resolution();
-  tracker_->reset(out.pose, out.has_covariance
-                                ? out.covariance
-                                : Eigen::Vector3d(h * h, h * h, 1e-4).asDiagonal().toDenseMatrix());
-  detector_.reset();
-  lost_ = false;
-  return out;
+  return r;
 }
 
 }  // namespace vdtnav

@@ -180,8 +180,13 @@ LocalizationResult3 VdtOptimizationLocalizer3::update(const OdometryStep3& odome
     r.covariance = predicted;
     r.has_covariance = true;
   }
-  // 3. Lost detection on the explained fraction.
-  if (lost_.update(explained)) {
+  // 3. Lost detection. A 3D map here carries no unknown space and the readings are not traced
+  // through it: every reading the map does not explain counts as contradicting the pose.
+  ScanAgreement agreement;
+  agreement.readings = static_cast<int>(observations.size());
+  agreement.explained = static_cast<int>(std::lround(explained * agreement.readings));
+  agreement.contradicted = agreement.readings - agreement.explained;
+  if (lost_.update(agreement)) {
     r.status = LocalizationStatus::kLost;
     ++lost_scans_;
   } else {

@@ -119,9 +119,7 @@ TEST(VdtLocalizer3, ThePredictionsCovarianceMatchesMonteCarlo) {
   // No observations: the result is the prediction; its covariance against the spread of
   // X (+) e composed with the increment, e ~ N(0, P), plus the odometry noise Q.
   const Drive& d = drive();
-  VdtLocalizer3Options o;
-  o.lost.lost_fraction = 0.0;  // an empty scan is not a loss here
-  o.lost.drop = 1.0;
+  VdtLocalizer3Options o;  // an empty scan is judged by nothing: never a loss
   VdtOptimizationLocalizer3 loc(*d.map, o);
   const Pose3 x = pose3_from_xyz_rpy(2, 3, 1, 0.1, -0.05, 0.7);
   Matrix6d p = start_covariance();

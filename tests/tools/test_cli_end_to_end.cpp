@@ -264,7 +264,7 @@ TEST(CliEndToEnd, AStartFarFromTheTruthIsFoundLostAndRecovered) {
   ASSERT_EQ(run_cli(common + " --recover --out " + (d / "rec.tum").string(), d / "rec.txt"), 0)
       << read_all(d / "rec.txt");
   const std::string rec_text = read_all(d / "rec.txt");
-  EXPECT_TRUE(contains(rec_text, "re-acquired after lost")) << rec_text;
+  EXPECT_TRUE(contains(rec_text, "re-acquired              1")) << rec_text;
   const TumTrajectory rec = load_tum_trajectory((d / "rec.tum").string());
   ASSERT_EQ(rec.poses.size(), f.run.size());
   std::size_t first_right = rec.poses.size();

@@ -105,7 +105,7 @@ void run_localize(const LocalizeArgs& a) {
   if (init_global) {
     GlobalLocalizationOptions g = settings.global;
     g.optimizer = settings.vdt_opt;
-    const GlobalLocalizer global(*map.vdt, map.occupancy, g);
+    const GlobalLocalizer global(*map.vdt, map.occupancy, g, MapKnowledge(map.ros.cells));
     const std::size_t tries = std::min<std::size_t>(idx.size(), 50);
     bool found = false;
     for (; first < tries && !found; ++first) {
@@ -132,7 +132,8 @@ void run_localize(const LocalizeArgs& a) {
                    first, first);
     }
   }
-  std::unique_ptr<Localizer2D> loc = make_localizer(a.method, *map.vdt, map.occupancy, settings);
+  std::unique_ptr<Localizer2D> loc =
+      make_localizer(a.method, *map.vdt, map.occupancy, settings, MapKnowledge(map.ros.cells));
   loc->reset(init, init_cov);
 
   std::ofstream traj(a.out);
@@ -150,8 +151,6 @@ void run_localize(const LocalizeArgs& a) {
   std::vector<LaserScan> scans;
   double ms_sum = 0.0, ms_max = 0.0;
   std::size_t with_cov = 0;
-  int recovered = 0;  // re-acquisitions after a lost track
-  LocalizationStatus previous = LocalizationStatus::kConverged;
   const auto wall0 = std::chrono::steady_clock::now();
   {
     ProgressBar bar("[localize] " + a.method, idx.size(), a.quiet);
@@ -166,10 +165,6 @@ void run_localize(const LocalizeArgs& a) {
       ms_sum += ms;
       ms_max = std::max(ms_max, ms);
       ++status_count[r.status];
-      // A loss ends on a converged scan; a slide corrected by a check is converged with a search.
-      recovered += r.status == LocalizationStatus::kConverged &&
-                   (previous == LocalizationStatus::kLost || r.work.global_searches > 0);
-      previous = r.status;
       traj << tum_line(times[k], r.pose) << '\n';
       if (cov.is_open()) {  // one row per scan; nan where the method reports no covariance
         const Eigen::Matrix3d c =
@@ -190,10 +185,12 @@ void run_localize(const LocalizeArgs& a) {
   std::printf("%s: %zu scans processed in %.3f s wall (%.3f ms per scan mean, %.3f max)\n",
               a.method.c_str(), idx.size(), wall, ms_sum / static_cast<double>(idx.size()), ms_max);
   for (const auto& [s, n] : status_count) std::printf("  %-22s %d\n", to_string(s), n);
-  if (recovered > 0 || status_count.count(LocalizationStatus::kLost) > 0) {
-    if (settings.recovery.recover) {
-      std::printf("  re-acquired after lost   %d (global localization)\n", recovered);
-    } else {
+  if (const auto* rec = dynamic_cast<const RecoveringLocalizer*>(loc.get())) {
+    if (rec->recoveries() > 0 || rec->searches() > 0) {
+      std::printf("  re-acquired              %d (global searches finished: %d, ambiguous: %d)\n",
+                  rec->recoveries(), rec->searches(), rec->ambiguous());
+    }
+    if (!settings.recovery.recover && status_count.count(LocalizationStatus::kLost) > 0) {
       std::printf("  (--no-recover: the lost scans were not localized again)\n");
     }
   }

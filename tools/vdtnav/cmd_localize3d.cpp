@@ -198,7 +198,9 @@ void run_localize3d(const Localize3dArgs& a) {
   lo.accept_fraction = a.min_explained;
   lo.explained_distance = ms.explained_distance;
   lo.multi_start = ms;
-  lo.lost.lost_fraction = std::min(lo.lost.lost_fraction, a.min_explained);
+  // Lost when a window explains no more than --min-explained (every unexplained reading counts
+  // against the pose in 3D): contradiction 1 - min_explained, 0.5 at least.
+  lo.lost.lost_contradiction = std::max(lo.lost.lost_contradiction, 1.0 - a.min_explained);
   VdtOptimizationLocalizer3 tracker(optimizer, lo);
   std::vector<StampedPose3> trajectory;
   Pose3 last = init, before_last = init;

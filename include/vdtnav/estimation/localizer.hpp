@@ -105,7 +105,9 @@ struct LocalizationResultT {
     int coarse_to_fine = 0;   ///< coarse-to-fine alignments (guess poorer than coarse_threshold)
     int window_searches = 0;  ///< window searches around the guess (scan poorly explained)
     int bridged = 0;          ///< scan-to-scan matches in a gap of the map
-    int global_searches = 0;  ///< global localizations (lost: re-acquisition attempts)
+    int global_searches = 0;  ///< global localizations finished (lost: re-acquisition attempts)
+    int search_boxes = 0;     ///< boxes of an anytime global search scored in this update
+    int candidates = 0;       ///< re-acquisition candidates solved beside the track
   } work;
   double final_cost = 0.0;
   int inliers = 0;  ///< beams used after gating

@@ -50,12 +50,10 @@ struct LocalizerSettings {
 /// 0.030 m / 0.48 deg. The map is one drawn from scans: vdt-opt and vdt-ekf consider the map
 /// errors shared by the readings of each 2 m square, with the map builder's pose error at half a
 /// cell (VdtSensorModelOptions::map_correlation_length, map_pose_sigma): relation NEES on the
-/// Intel log 4.86 (mean), against 81 without. Lost detection: a window is lost 0.35 below the
-/// track's baseline (0.25 by default) and smaller falls are not checked (check_drop 0): right
-/// poses on such maps have windows 0.26-0.29 below theirs where people and doors block the view.
-/// Re-acquisition (recovery.recover) stays on: on the Intel study's map, which lacks places of
-/// the localized part, it changes nothing (0.030 m) because a candidate must explain the scan as
-/// the track did and be confirmed by the next scan.
+/// Intel log 4.86 (mean), against 81 without. Lost detection and recovery keep their defaults:
+/// they weigh what the map contradicts, not what it lacks (lost_detection.hpp), so that a map
+/// drawn from part of a run needs no settings of its own; pass the map's unknown cells
+/// (make_localizer's `knowledge`) so that scans into places it lacks are not held against it.
 [[nodiscard]] LocalizerSettings log_settings();
 
 /// \brief Settings for 3D LiDAR scans on a map drawn from real scans or clouds (the `vdtnav
@@ -77,11 +75,14 @@ struct LocalizerSettings {
 /// the occupancy grid it was built from; both must outlive the localizer. vdt-opt and vdt-ekf
 /// come inside a RecoveringLocalizer (lost detection, re-acquisition) unless
 /// settings.recovery.detect is off; the baselines (udt-*, pf) and the single-beam filters, whose
-/// one reading per scan says nothing about being lost, do not.
+/// one reading per scan says nothing about being lost, do not. `knowledge`: the map's unknown
+/// cells (MapKnowledge(ros_map.cells)), for the lost test; default: everything inside the map is
+/// known (a floor plan).
 /// \throws ConfigError for an unknown method (the message lists the known ones).
 [[nodiscard]] std::unique_ptr<Localizer2D> make_localizer(const std::string& method,
                                                           const VdtMap2& vdt,
                                                           const OccupancyGrid<2>& occupancy,
-                                                          const LocalizerSettings& settings = {});
+                                                          const LocalizerSettings& settings = {},
+                                                          const MapKnowledge& knowledge = {});
 
 }  // namespace vdtnav

@@ -1,36 +1,37 @@
 #pragma once
 /// \file
-/// \brief Never lost for good: any 2D tracking localizer (vdt-opt, vdt-ekf, ...) with lost
-/// detection (lost_detection.hpp) and re-acquisition by global localization
-/// (global_localization.hpp) — the kidnapped robot.
+/// \brief Never lost for good, never made wrong: any 2D tracking localizer (vdt-opt, vdt-ekf, ...)
+/// with lost detection (lost_detection.hpp) and re-acquisition by global localization
+/// (global_localization.hpp) — the kidnapped robot — whose update time is bounded.
 ///
-/// Each update runs the tracker, measures the fraction of the observations the map explains at
-/// its estimate (as global localization's acceptance test does: disparity below
-/// explained_distance) and feeds the window test. While the window says lost, the result's status
-/// is kLost and, with `recover`, global localization runs on the lost scans (the 1st, 2nd, 4th,
-/// 8th, ... then every max_attempt_gap-th: a robot in a part of the building the map lacks is
-/// lost for long, and each search costs a fraction of a second to seconds). An acquisition is a
-/// candidate only when it is accepted (explained, unambiguous) and explains the scan as well as
-/// the track did before the loss (its baseline less lost.drop): in a gap of the map, a place that
-/// merely resembles the robot's explains 75-85 % of a scan where the track explained 95 %. The
-/// candidate is then confirmed on the next scan — the tracker restarted there must explain it at
-/// that level too, after the robot moved — and only then is the loss over (status converged at
-/// the confirmed pose). A refused acquisition (an ambiguous place) is never used: the status
-/// stays kLost.
+/// Each update runs the tracker, then weighs the scan at its estimate (scan_agreement.hpp: what
+/// the map explains, contradicts, cannot judge) in the window test. Status kLost only when the
+/// map contradicts the window; a scan the map cannot judge (a place the map lacks) keeps the
+/// tracker's own status (refused, and its prediction, when it did not match).
 ///
-/// A smaller fall (check_drop below the baseline) is not called lost — real logs have such dips
-/// at right poses, where people or furniture block the view — but it is checked: a branch and
-/// bound capped at the tracker's own score (GlobalLocalizer::localize_better) looks for a pose
-/// that explains the scan clearly better. Where the tracker is right that search prunes almost
-/// everything at once; where it slid along a corridor onto a place that explains 80 % of the
-/// scan, the right place explains all of it and is adopted (an accepted acquisition).
+/// While the window is lost or in doubt, a branch and bound looks for other poses — for a clearly
+/// better one than the track (localize_better) in doubt, anywhere when lost — as an anytime
+/// computation: each update scores at most `search_boxes` boxes, the search's queue is kept
+/// between updates, so tracking never waits for it. Its leaves (poses at the scan it started on)
+/// are carried forward with the odometry to become candidates. A candidate is then tracked beside
+/// the track for `verify_scans` scans (solved on the map from its odometry prediction, each scan
+/// weighed at its pose), and adopted only when, over those scans, the map judges it, contradicts
+/// it at most found_contradiction, contradicts it less than the track by `verify_margin`, and it
+/// explains at least as much as the track — never on one scan, never while the map agrees with
+/// the track (the search and the candidates are dropped once the window is decided below doubt),
+/// and never when two distinct candidates pass (an ambiguous place: the loss is kept).
 
 #include <memory>
+#include <optional>
 #include <string>
+#include <vector>
 
 #include "vdtnav/estimation/global_localization.hpp"
 #include "vdtnav/estimation/localizer.hpp"
 #include "vdtnav/estimation/lost_detection.hpp"
+#include "vdtnav/estimation/scan_agreement.hpp"
+#include "vdtnav/estimation/vdt_optimizer.hpp"
+#include "vdtnav/map/map_knowledge.hpp"
 #include "vdtnav/sensor/vdt_sensor_model.hpp"
 
 namespace vdtnav {
@@ -38,23 +39,30 @@ namespace vdtnav {
 struct RecoveryOptions {
   /// Run the window test and report kLost (false: the tracker's results pass unchanged).
   bool detect = true;
-  /// While lost, re-acquire by global localization (false: report kLost only, until the window
-  /// explains lost.found_fraction again). With it, only an accepted acquisition ends a loss: a
-  /// tracker that slid onto a twin of the right place explains its scans as well as the right
-  /// place would.
+  /// While lost or in doubt, search for the pose (false: report kLost only, until the window is
+  /// found again).
   bool recover = true;
-  /// A scan with fewer readings says nothing either way (one reading on a wall is 100 %
-  /// explained anywhere along it): it does not enter the window.
+  /// A scan with fewer readings says nothing either way (one reading on a wall is explained
+  /// anywhere along it): it does not enter the window.
   int min_readings = 10;
-  /// While lost, global localization runs on lost scans 1, 2, 4, 8, ... and then every this many.
-  int max_attempt_gap = 16;
   LostDetectionOptions lost;
-  /// A window this far below the track's baseline (less than lost) asks whether another pose
-  /// explains the scan clearly better (recover only; <= 0: never).
-  double check_drop = 0.1;
-  /// "Clearly better": a truncated score lower by this fraction of N tau^2 (N the scored
-  /// readings, tau global.truncation).
-  double check_margin = 0.1;
+  /// How a scan is weighed at a pose (explained, contradicted, unknown).
+  ScanAgreementOptions agreement;
+  /// Boxes of the branch and bound scored per update: the search's share of an update's time
+  /// (about 0.1-0.5 microseconds a box on a 2 GHz core; 20000: a few milliseconds).
+  int search_boxes = 30000;
+  /// The search's leaves: boxes of about this size (metres; at least the map's cell, in powers of
+  /// two of it), with headings in steps that move the scan's far readings by as much. The
+  /// candidates' solves refine them (the optimizer's coarse levels reach that far).
+  double search_leaf = 0.2;
+  /// Scans over which a candidate is tracked beside the track before it can be adopted.
+  int verify_scans = 3;
+  /// Clearly better: the candidate's contradiction over those scans is at most the track's less
+  /// this.
+  double verify_margin = 0.2;
+  /// In doubt (not lost), the search keeps only poses whose truncated score (global localization's)
+  /// is below the track's by this fraction of N tau^2.
+  double doubt_margin = 0.1;
 
   /// \throws ConfigError for values out of range.
   void validate() const;
@@ -64,13 +72,14 @@ struct RecoveryOptions {
 class RecoveringLocalizer final : public Localizer2D {
  public:
   /// \param tracker the localizer that tracks (owned).
-  /// \param map, occupancy must outlive this; the occupancy is the map's grid (free cells are
-  ///        where global localization places the robot).
-  /// \param global global localization's options (its explained_distance is also the lost test's).
-  /// \throws ConfigError for bad options or grids.
+  /// \param map, occupancy must outlive this; occupancy tells where the robot cannot be (any
+  ///        grid, looked up at the map's cells).
+  /// \param global global localization's options (its optimizer solves the candidates).
+  /// \param knowledge where the map knows what is there (default: everywhere inside it).
+  /// \throws ConfigError for bad options.
   RecoveringLocalizer(std::unique_ptr<Localizer2D> tracker, const VdtMap2& map,
                       const OccupancyGrid<2>& occupancy, const GlobalLocalizationOptions& global,
-                      const RecoveryOptions& options = {});
+                      const RecoveryOptions& options = {}, const MapKnowledge& knowledge = {});
 
   void reset(const Pose2& pose, const Eigen::Matrix3d& covariance) override;
   using Localizer2D::update;
@@ -78,36 +87,53 @@ class RecoveringLocalizer final : public Localizer2D {
                                           const ScanPoints& observations) override;
   [[nodiscard]] std::string name() const override { return tracker_->name(); }
 
-  /// \return acquisitions that ended a loss (confirmed) or corrected a slide (check_drop).
+  /// \return candidates adopted (each ended a loss or a doubt).
   [[nodiscard]] int recoveries() const noexcept { return recoveries_; }
-  [[nodiscard]] const LostDetector& detector() const noexcept { return detector_; }
-  /// \return the last global localization run (lost: the acquisition attempt), e.g. to tell an
-  /// ambiguous place (result.ambiguous) from an unexplained scan.
-  [[nodiscard]] const GlobalLocalizationResult& last_acquisition() const noexcept {
-    return last_acquisition_;
+  /// \return searches finished, and verifications in which two distinct candidates passed.
+  [[nodiscard]] int searches() const noexcept { return searches_; }
+  [[nodiscard]] int ambiguous() const noexcept { return ambiguous_; }
+  /// \return the candidates that passed together in the last ambiguous verification.
+  [[nodiscard]] const std::vector<Pose2>& ambiguous_poses() const noexcept {
+    return ambiguous_poses_;
   }
+  [[nodiscard]] const LostDetector& detector() const noexcept { return detector_; }
+  /// \return the last scan's agreement at the reported pose.
+  [[nodiscard]] const ScanAgreement& agreement() const noexcept { return agreement_; }
+  /// \return whether a search is in progress, and how many candidates are being verified.
+  [[nodiscard]] bool searching() const noexcept { return search_.has_value(); }
+  [[nodiscard]] std::size_t candidates() const noexcept { return candidates_.size(); }
 
  private:
-  /// Restarts the tracker at the acquisition last_acquisition_ and ends the loss; its result.
-  [[nodiscard]] LocalizationResult adopt(const LocalizationResult& tracked);
-  /// The level an acquisition must explain: the track's baseline less lost.drop (at least
-  /// global's accept_fraction).
-  [[nodiscard]] double acceptable(double baseline) const;
-  /// A loss begins: the schedule of attempts restarts.
-  void begin_loss();
+  struct Candidate {
+    Pose2 pose = Pose2::Zero();
+    LocalizationResult last;   // its last solve
+    int scans = 0;             // scans it was weighed on
+    ScanAgreement own, track;  // summed over those scans: at its poses, at the track's
+  };
+  /// Solves the candidates on this scan and weighs them; drops the failed and the contradicted.
+  void verify(const OdometryStep& odometry, const ScanPoints& observations,
+              const ScanAgreement& track);
+  /// The agreement the window weighs: agreement_ (at the estimate) or, when that is in doubt,
+  /// at the pose the optimizer reaches from the estimate, if less contradicted.
+  [[nodiscard]] ScanAgreement near_agreement(const ScanPoints& observations, const Pose2& estimate);
+  /// The candidate to adopt, if exactly one distinct place passes (file comment).
+  [[nodiscard]] std::optional<std::size_t> choose();
+  void drop_search();
 
   std::unique_ptr<Localizer2D> tracker_;
-  VdtSensorModel model_;  // the explained fraction at the tracker's estimate
+  const VdtMap2* map_;
+  MapKnowledge knowledge_;
+  VdtSensorModel model_;  // the agreement at the tracker's estimate
   GlobalLocalizer global_;
+  VdtOptimizer optimizer_;  // the candidates' solves
   RecoveryOptions options_;
   LostDetector detector_;
-  bool lost_ = false;
-  int since_check_ = 0;                    // scans since the last check (one per window)
-  int lost_scans_ = 0, next_attempt_ = 0;  // the attempts' schedule
-  double before_loss_ = 0.0;  // the baseline before the loss: what a candidate must explain
-  bool candidate_ = false;    // an acquisition waiting for its confirmation
-  int recoveries_ = 0;
-  GlobalLocalizationResult last_acquisition_;
+  ScanAgreement agreement_;
+  std::optional<GlobalLocalizer::Search> search_;
+  Pose2 since_search_ = Pose2::Zero();  // odometry since the search's scan
+  std::vector<Candidate> candidates_;
+  std::vector<Pose2> ambiguous_poses_;
+  int recoveries_ = 0, searches_ = 0, ambiguous_ = 0;
 };
 
 }  // namespace vdtnav

@@ -14,7 +14,9 @@
 ///    not correct. Below accept_fraction, multi-start from X- (axis starts and the attitude grid;
 ///    while lost, only on lost scans 1, 2, 4, 8 and then every 16th: each costs ~0.5-1 s);
 ///    still below: the scan is refused (status kRefused) and the prediction kept.
-/// 3. Lost detection: the explained fraction's window test (lost_detection.hpp) reports kLost.
+/// 3. Lost detection: the window test of lost_detection.hpp reports kLost, every reading the map
+///    does not explain counting as a contradiction (no unknown space in a 3D map here): lost when
+///    a window explains half its readings or less, found again from 70 %.
 ///
 /// 4-DOF mode: roll and pitch are held at the IMU's (or the prediction's), so their error goes
 /// into x, y, z and yaw through the scan: the reported 6 x 6 covariance is that of the 4-DOF solve
