@@ -19,6 +19,7 @@
 
 #include <Eigen/Cholesky>
 
+#include "cli_runner.hpp"
 #include "vdtnav/core/pose3.hpp"
 #include "vdtnav/io/tum_trajectory.hpp"
 #include "vdtnav/sim/lidar3d_simulator.hpp"
@@ -29,17 +30,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-int run_cli(const std::string& args, const fs::path& output) {
-  return std::system(
-      (std::string(VDTNAV_CLI) + " " + args + " > " + output.string() + " 2>&1").c_str());
-}
-
-std::string read_all(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using test::read_all;
+using test::run_cli;
 
 /// The pose and covariance a localize3d YAML holds (the rows after `pose:` and `covariance:`).
 struct YamlResult {

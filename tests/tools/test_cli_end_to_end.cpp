@@ -17,6 +17,7 @@
 
 #include <Eigen/Eigenvalues>
 
+#include "cli_runner.hpp"
 #include "vdtnav/io/carmen_log.hpp"
 #include "vdtnav/io/relations.hpp"
 #include "vdtnav/io/tum_trajectory.hpp"
@@ -37,18 +38,9 @@ struct Fixture {
   sim::SimulatedRun run;
 };
 
-std::string cli() { return VDTNAV_CLI; }
-
-int run_cli(const std::string& args, const std::filesystem::path& output) {
-  return std::system((cli() + " " + args + " > " + output.string() + " 2>&1").c_str());
-}
-
-std::string read_all(const std::filesystem::path& p) {
-  std::ifstream in(p);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using test::contains;
+using test::read_all;
+using test::run_cli;
 
 /// A simulated run of 150 scans at 2 Hz through the generated floor plan, written as a CARMEN
 /// log whose FLASER poses are the truth and whose odometry fields are dead reckoning.
@@ -118,10 +110,6 @@ void write_no_return_log(const std::filesystem::path& path, const Pose2& pose, i
     log.lasers.push_back(l);
   }
   save_carmen_log(path.string(), log);
-}
-
-bool contains(const std::string& text, const std::string& what) {
-  return text.find(what) != std::string::npos;
 }
 
 /// The value of `"key": number` after the first occurrence of `section` in a JSON text.

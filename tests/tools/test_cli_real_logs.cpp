@@ -1,0 +1,139 @@
+// Lost detection and recovery on the real logs in ../shared, through `vdtnav` as a user runs it
+// with the default settings: the Intel lab (map from the last third, the first two thirds
+// localized on the raw odometry) and MIT Killian Court (map from the odd scans, the even scans
+// localized). A right track is never flagged lost, and recovery cannot change it: the
+// trajectories with and without recovery are the same file, and the Intel relations' figures are
+// the study's (0.0295 m / 0.48 deg). Skips when the data is absent.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "cli_runner.hpp"
+#include "vdtnav/io/carmen_log.hpp"
+#include "vdtnav/io/tum_trajectory.hpp"
+
+namespace vdtnav {
+namespace {
+
+namespace fs = std::filesystem;
+using test::contains;
+using test::read_all;
+using test::run_cli;
+
+fs::path work_dir(const std::string& name) {
+  const fs::path d = fs::path(VDTNAV_TEST_TMP) / (name + "_" + std::to_string(::getpid()));
+  fs::create_directories(d);
+  return d;
+}
+
+std::string fixed(double v) {
+  char b[64];
+  std::snprintf(b, sizeof b, "%.6f", v);
+  return b;
+}
+
+/// The value of `"key": number` after `section` in a JSON text.
+double json_number(const std::string& js, const std::string& section, const std::string& key) {
+  std::size_t p = js.find(section);
+  if (p == std::string::npos) return std::nan("");
+  p = js.find("\"" + key + "\":", p);
+  if (p == std::string::npos) return std::nan("");
+  return std::stod(js.substr(p + key.size() + 3));
+}
+
+/// Localizes LOG on MAP with and without recovery (method, other flags in `args`): both runs
+/// complete, no scan is reported lost, and the two trajectories are the same file.
+void expect_recovery_changes_nothing(const fs::path& d, const std::string& args,
+                                     const std::string& tag) {
+  const fs::path on = d / (tag + "_recover.tum"), off = d / (tag + "_norecover.tum");
+  ASSERT_EQ(run_cli(args + " --quiet --out " + on.string(), d / (tag + "_recover.txt")), 0)
+      << read_all(d / (tag + "_recover.txt"));
+  ASSERT_EQ(
+      run_cli(args + " --quiet --no-recover --out " + off.string(), d / (tag + "_norecover.txt")),
+      0)
+      << read_all(d / (tag + "_norecover.txt"));
+  for (const char* run : {"_recover.txt", "_norecover.txt"}) {
+    const std::string text = read_all(d / (tag + run));
+    EXPECT_FALSE(contains(text, "  lost  ")) << tag << run << ":\n" << text;
+  }
+  EXPECT_EQ(read_all(on), read_all(off)) << tag << ": recovery changed a track nothing lost";
+}
+
+TEST(CliRealLogs, IntelStudyNothingLostAndRecoveryChangesNothing) {
+  const fs::path data = fs::path(VDTNAV_DATA_DIR) / "intel-lab";
+  if (!fs::exists(data / "intel.relations")) GTEST_SKIP() << "no Intel lab data in " << data;
+  const fs::path d = work_dir("intel");
+  ASSERT_EQ(
+      run_cli("join-odometry --log " + (data / "intel.gfs.log.gz").string() + " --table " +
+                  (data / "intel_910_odom_vs_corrected.txt").string() + " --out-raw " +
+                  (d / "raw.log").string() + " --out-corrected " + (d / "corrected.log").string() +
+                  " --out-reference " + (d / "reference.tum").string(),
+              d / "join.txt"),
+      0)
+      << read_all(d / "join.txt");
+  // The study's split: the last third maps, the first two thirds are localized.
+  const CarmenLog corrected = load_carmen_log((d / "corrected.log").string());
+  const std::size_t n = corrected.lasers.size(), split = n - n / 3;
+  ASSERT_EQ(n, 910U);
+  ASSERT_EQ(run_cli("map --quiet --log " + (d / "corrected.log").string() + " --from " +
+                        fixed(corrected.lasers[split].time - 1e-4) + " --resolution 0.05 --out " +
+                        (d / "map").string(),
+                    d / "map.txt"),
+            0)
+      << read_all(d / "map.txt");
+  const Pose2 p0 = corrected.lasers[0].pose;
+  const std::string common = "localize --map " + (d / "map.yaml").string() + " --log " +
+                             (d / "raw.log").string() + " --to " +
+                             fixed(corrected.lasers[split - 1].time + 1e-4) + " --init " +
+                             fixed(p0[0]) + "," + fixed(p0[1]) + "," + fixed(p0[2]);
+  for (const char* method : {"vdt-opt", "vdt-ekf"}) {
+    expect_recovery_changes_nothing(d, common + " --method " + method, method);
+  }
+  // The relations' figures of vdt-opt (the README's and the study's).
+  ASSERT_EQ(run_cli("eval --traj " + (d / "vdt-opt_recover.tum").string() + " --relations " +
+                        (data / "intel.relations").string() + " --max-gap 0 --json",
+                    d / "eval.txt"),
+            0);
+  const std::string js = read_all(d / "eval.txt");
+  EXPECT_EQ(json_number(js, "\"relations\"", "used"), 58.0) << js;
+  EXPECT_LE(json_number(js, "\"relations\"", "trans_mean_m"), 0.035) << js;
+  EXPECT_LE(json_number(js, "\"relations\"", "rot_mean_deg"), 0.5) << js;
+}
+
+TEST(CliRealLogs, MitKillianOddScansMapEvenScansLocalizeNothingLost) {
+  const fs::path log = fs::path(VDTNAV_DATA_DIR) / "mit-killian/infinite-corridor-corrected.log.gz";
+  if (!fs::exists(log)) GTEST_SKIP() << "no MIT Killian Court log at " << log;
+  const fs::path d = work_dir("mit");
+  const CarmenLog all = load_carmen_log(log.string());
+  CarmenLog odd, even;
+  for (std::size_t k = 0; k < all.lasers.size(); ++k) {
+    (k % 2 == 0 ? odd : even).lasers.push_back(all.lasers[k]);
+  }
+  save_carmen_log((d / "odd.log").string(), odd);
+  save_carmen_log((d / "even.log").string(), even);
+  ASSERT_EQ(run_cli("map --quiet --log " + (d / "odd.log").string() + " --resolution 0.05 --out " +
+                        (d / "map").string(),
+                    d / "map.txt"),
+            0)
+      << read_all(d / "map.txt");
+  const std::string common =
+      "localize --map " + (d / "map.yaml").string() + " --log " + (d / "even.log").string();
+  expect_recovery_changes_nothing(d, common, "vdt-opt");
+  // The track is right: every scan within 0.5 m of the log's corrected pose.
+  const std::vector<StampedPose3> est =
+      load_tum_trajectory((d / "vdt-opt_recover.tum").string()).poses;
+  ASSERT_EQ(est.size(), even.lasers.size());
+  int off = 0;
+  for (std::size_t k = 0; k < est.size(); ++k) {
+    off += (est[k].pose.translation().head<2>() - even.lasers[k].pose.head<2>()).norm() > 0.5;
+  }
+  EXPECT_EQ(off, 0);
+}
+
+}  // namespace
+}  // namespace vdtnav
