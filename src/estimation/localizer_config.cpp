@@ -289,12 +289,16 @@ void visit(V& v, RecoveryOptions& o) {
            "ends where the map knows nothing)");
   v.integer("search_boxes", o.search_boxes, "boxes per update",
             "the anytime global search's budget in each update");
+  v.flag("search_thread", o.search_thread,
+         "run the search on a worker thread (a second core) instead of search_boxes per update: "
+         "faster re-acquisition, not repeatable bit for bit");
   v.number("search_leaf", o.search_leaf, "m",
            "the search's leaf boxes (powers of two of the map's cell); headings to match");
   v.integer("verify_scans", o.verify_scans, "scans",
             "a candidate is tracked beside the track this long before it can be adopted");
   v.number("verify_margin", o.verify_margin, "fraction",
-           "adopted only when contradicted this much less than the track over those scans");
+           "adopted only when explaining this much more than the track over those scans, and "
+           "contradicted this much less where the map judges the track");
   v.number("doubt_margin", o.doubt_margin, "fraction of N tau^2",
            "in doubt, search only for poses scoring this much better than the track");
   v.section("agreement", "how a scan is weighed at a pose (explained, contradicted, unknown)",

@@ -36,8 +36,9 @@ bool LostDetector::update(const ScanAgreement& scan) {
     window_.pop_front();
   }
   // Only a full window that the map judges enough of decides; otherwise the state is kept.
-  decided_ = static_cast<int>(window_.size()) >= options_.window && sum_.judged() > 0 &&
-             sum_.judged() >= options_.min_judged * sum_.readings;
+  const bool full = static_cast<int>(window_.size()) >= options_.window;
+  decided_ = full && sum_.judged() > 0 && sum_.judged() >= options_.min_judged * sum_.readings;
+  unjudged_ = full && !decided_ ? unjudged_ + 1 : 0;
   if (!decided_) {
     doubt_ = false;
     return lost_;
@@ -77,6 +78,7 @@ void LostDetector::reset() {
   sum_ = ScanAgreement{};
   baseline_ = variance_ = std::numeric_limits<double>::quiet_NaN();
   lost_ = doubt_ = decided_ = false;
+  unjudged_ = 0;
 }
 
 }  // namespace vdtnav

@@ -1,6 +1,7 @@
 #include "vdtnav/estimation/recovering_localizer.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 
 #include "vdtnav/core/error.hpp"
@@ -53,9 +54,46 @@ void RecoveringLocalizer::reset(const Pose2& pose, const Eigen::Matrix3d& covari
   drop_search();
 }
 
+RecoveringLocalizer::~RecoveringLocalizer() { drop_search(); }
+
 void RecoveringLocalizer::drop_search() {
+  if (worker_.valid()) {
+    cancel_->store(true, std::memory_order_relaxed);
+    worker_.wait();  // within a chunk of boxes
+    worker_ = {};
+  }
   search_.reset();
   candidates_.clear();
+}
+
+void RecoveringLocalizer::start_search(GlobalLocalizer::Search search) {
+  if (!options_.search_thread) {
+    search_ = std::move(search);
+    return;
+  }
+  cancel_ = std::make_shared<std::atomic<bool>>(false);
+  worker_ = std::async(std::launch::async, [s = std::move(search), cancel = cancel_]() mutable {
+    // Chunks of boxes between looks at the flag: a cancelled search stops within one.
+    constexpr std::size_t kChunk = 10000;
+    while (!s.step(kChunk) && !cancel->load(std::memory_order_relaxed)) {
+    }
+    return std::move(s);
+  });
+}
+
+std::optional<GlobalLocalizer::Search> RecoveringLocalizer::advance_search(LocalizationResult& r) {
+  if (worker_.valid()) {
+    if (worker_.wait_for(std::chrono::seconds(0)) != std::future_status::ready) return std::nullopt;
+    return worker_.get();
+  }
+  if (!search_) return std::nullopt;
+  const std::size_t before = search_->nodes();
+  search_->step(static_cast<std::size_t>(options_.search_boxes));
+  r.work.search_boxes = static_cast<int>(search_->nodes() - before);
+  if (!search_->done()) return std::nullopt;
+  std::optional<GlobalLocalizer::Search> done = std::move(search_);
+  search_.reset();
+  return done;
 }
 
 void RecoveringLocalizer::verify(const OdometryStep& odometry, const ScanPoints& observations,
@@ -63,8 +101,11 @@ void RecoveringLocalizer::verify(const OdometryStep& odometry, const ScanPoints&
   const LostDetectionOptions& lo = options_.lost;
   std::vector<Candidate> kept;
   for (Candidate& c : candidates_) {
-    const Pose2 predicted = compose(c.pose, odometry.delta);
-    c.last = optimizer_.solve(observations, predicted);
+    // Its first solve starts from the best pose of a window around the prediction: the leaf is
+    // a box and a heading step, carried forward by the odometry of the search's scans.
+    Pose2 start = compose(c.pose, odometry.delta);
+    if (c.scans == 0) start = local_start(observations, start);
+    c.last = optimizer_.solve(observations, start);
     if (c.last.status == LocalizationStatus::kDiverged) continue;
     c.pose = c.last.pose;
     const ScanAgreement a =
@@ -81,13 +122,8 @@ void RecoveringLocalizer::verify(const OdometryStep& odometry, const ScanPoints&
   candidates_ = std::move(kept);
 }
 
-ScanAgreement RecoveringLocalizer::near_agreement(const ScanPoints& observations,
-                                                  const Pose2& estimate) {
-  if (agreement_.contradiction() < options_.lost.doubt_contradiction) return agreement_;
-  // A tracking error the tracker may still correct (a heading off by a few degrees puts the far
-  // readings through walls) is not a lost track: weigh the pose the map's optimizer reaches from
-  // the best start of a window around the estimate (a distinct pose's half-widths), and keep the
-  // less contradicted.
+Pose2 RecoveringLocalizer::local_start(const ScanPoints& observations, const Pose2& pose) const {
+  // Half a distinct pose's distance and angle each way: what the optimizer's basin cannot span.
   GuessSearchOptions w;
   w.window_xy = 0.5 * global_.options().distinct_distance;
   w.window_yaw = 0.5 * global_.options().distinct_angle;
@@ -95,8 +131,18 @@ ScanAgreement RecoveringLocalizer::near_agreement(const ScanPoints& observations
   w.steps_yaw = 21;
   w.max_beams = 120;
   w.truncation = global_.options().truncation;
-  const Pose2 start = search_guess(model_, observations, estimate, w);
-  const LocalizationResult near = optimizer_.solve(observations, start);
+  return search_guess(model_, observations, pose, w);
+}
+
+ScanAgreement RecoveringLocalizer::near_agreement(const ScanPoints& observations,
+                                                  const Pose2& estimate) {
+  if (agreement_.contradiction() < options_.lost.doubt_contradiction) return agreement_;
+  // A tracking error the tracker may still correct (a heading off by a few degrees puts the far
+  // readings through walls) is not a lost track: weigh the pose the map's optimizer reaches from
+  // the best start of a window around the estimate (a distinct pose's half-widths), and keep the
+  // less contradicted.
+  const LocalizationResult near =
+      optimizer_.solve(observations, local_start(observations, estimate));
   if (near.status == LocalizationStatus::kDiverged ||
       distinct(near.pose, estimate, global_.options())) {
     return agreement_;
@@ -116,10 +162,16 @@ std::optional<std::size_t> RecoveringLocalizer::choose() {
       pending = true;
       continue;
     }
-    const bool judged = c.own.judged() > 0 && c.own.judged() >= lo.min_judged * c.own.readings;
-    if (judged && c.own.contradiction() <= lo.found_contradiction &&
-        c.own.contradiction() <= c.track.contradiction() - options_.verify_margin &&
-        c.own.explained_fraction() >= c.track.explained_fraction()) {
+    const auto judged = [&](const ScanAgreement& a) {
+      return a.judged() > 0 && a.judged() >= lo.min_judged * a.readings;
+    };
+    // The place must be one the map knows: explained as global localization accepts a scan,
+    // and as little contradicted as a found track; and clearly better than the track: explaining
+    // more by verify_margin and, where the map judges the track, contradicted less by as much.
+    const double e = c.own.explained_fraction(), m = options_.verify_margin;
+    if (judged(c.own) && e >= global_.options().accept_fraction &&
+        c.own.contradiction() <= lo.found_contradiction && e >= c.track.explained_fraction() + m &&
+        (!judged(c.track) || c.own.contradiction() <= c.track.contradiction() - m)) {
       passed.push_back(k);
     }
   }
@@ -157,13 +209,16 @@ LocalizationResult RecoveringLocalizer::update(const OdometryStep& odometry,
   if (!options_.detect) return r;
   const bool informative = static_cast<int>(observations.size()) >= options_.min_readings;
   if (informative) detector_.update(near_agreement(observations, r.pose));
-  const bool wrong = detector_.lost() || detector_.in_doubt();
+  // Wrong, or possibly: lost, in doubt, or judged by nothing for a window's length (a track
+  // that wandered where the map knows nothing is never contradicted).
+  const bool wrong =
+      detector_.lost() || detector_.in_doubt() || detector_.unjudged() >= options_.lost.window;
   if (options_.recover && !wrong && detector_.decided()) {
     drop_search();  // the map agrees with the track: nothing to replace it with
   } else if (options_.recover && !informative) {
     // Nothing to weigh: the candidates and the search's leaves follow the odometry.
     for (Candidate& c : candidates_) c.pose = compose(c.pose, odometry.delta);
-    if (search_) since_search_ = compose(since_search_, odometry.delta);
+    if (searching()) since_search_ = compose(since_search_, odometry.delta);
   } else if (options_.recover) {
     // 1. The candidates on this scan, beside the track.
     if (!candidates_.empty()) {
@@ -190,30 +245,24 @@ LocalizationResult RecoveringLocalizer::update(const OdometryStep& odometry,
     }
     // 2. The search: started on this scan when there is none and nothing to verify (anywhere
     // when lost, clearly better than the track in doubt), advanced by the budget.
-    if (search_) {
+    if (searching()) {
       since_search_ = compose(since_search_, odometry.delta);
     } else if (candidates_.empty() && wrong) {
       const int leaf = static_cast<int>(
           std::floor(std::log2(std::max(1.0, options_.search_leaf / map_->resolution())) + 1e-9));
-      search_ = detector_.lost()
-                    ? global_.start(observations, nullptr, 0.0, leaf)
-                    : global_.start(observations, &r.pose, options_.doubt_margin, leaf);
+      start_search(detector_.lost()
+                       ? global_.start(observations, nullptr, 0.0, leaf)
+                       : global_.start(observations, &r.pose, options_.doubt_margin, leaf));
       since_search_ = Pose2::Zero();
     }
-    if (search_) {
-      const std::size_t before = search_->nodes();
-      search_->step(static_cast<std::size_t>(options_.search_boxes));
-      r.work.search_boxes = static_cast<int>(search_->nodes() - before);
-      if (search_->done()) {
-        ++searches_;
-        r.work.global_searches = 1;
-        // The leaves are poses at the search's scan: carried forward by the odometry since.
-        for (const Pose2& leaf : search_->leaves()) {
-          Candidate c;
-          c.pose = compose(leaf, since_search_);
-          if (distinct(c.pose, r.pose, global_.options())) candidates_.push_back(c);
-        }
-        search_.reset();
+    if (const std::optional<GlobalLocalizer::Search> done = advance_search(r)) {
+      ++searches_;
+      r.work.global_searches = 1;
+      // The leaves are poses at the search's scan: carried forward by the odometry since.
+      for (const Pose2& leaf : done->leaves()) {
+        Candidate c;
+        c.pose = compose(leaf, since_search_);
+        if (distinct(c.pose, r.pose, global_.options())) candidates_.push_back(c);
       }
     }
   }

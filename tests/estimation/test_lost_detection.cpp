@@ -9,8 +9,10 @@
 
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cmath>
 #include <random>
+#include <thread>
 #include <vector>
 
 #include "scan_fixture.hpp"
@@ -333,12 +335,50 @@ TEST(RecoveringLocalizer, AStuckTrackerIsMovedToWhereTheScansAre) {
   EXPECT_TRUE(right(r.pose, carried));
 }
 
+TEST(RecoveringLocalizer, OnAWorkerThreadTheSearchRunsBesideTheUpdates) {
+  // search_thread: the updates never score a box themselves; the search finishes on the worker
+  // while they go on (paced here as a sensor would be), and its candidates are verified as in the
+  // updates' own budget. A localizer destroyed mid-search stops its worker.
+  const auto& w = test::world();
+  RecoveryOptions o;
+  o.search_thread = true;
+  const Pose2 start = test::tour_pose(1), carried = test::tour_pose(7);
+  {
+    RecoveringLocalizer loc(std::make_unique<StuckTracker>(), w.map, w.plan.occupancy,
+                            GlobalLocalizationOptions{}, o);
+    loc.reset(start, Eigen::Matrix3d::Identity() * 1e-4);
+    for (int k = 0; k < 10; ++k) {
+      (void)loc.update(OdometryStep{}, scan_from(w.plan.occupancy, start));
+    }
+    int recovered_at = -1, searched = 0;
+    for (int k = 0; k < 400 && recovered_at < 0; ++k) {
+      const LocalizationResult r = loc.update(OdometryStep{}, scan_from(w.plan.occupancy, carried));
+      EXPECT_EQ(r.work.search_boxes, 0) << k;
+      searched += loc.searching();
+      if (r.status == LocalizationStatus::kConverged && right(r.pose, carried)) recovered_at = k;
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+    EXPECT_GT(searched, 0);
+    EXPECT_GE(recovered_at, 3);
+    EXPECT_EQ(loc.recoveries(), 1);
+  }
+  RecoveringLocalizer busy(std::make_unique<StuckTracker>(), w.map, w.plan.occupancy,
+                           GlobalLocalizationOptions{}, o);
+  busy.reset(start, Eigen::Matrix3d::Identity() * 1e-4);
+  for (int k = 0; k < 10; ++k)
+    (void)busy.update(OdometryStep{}, scan_from(w.plan.occupancy, start));
+  for (int k = 0; k < 5 && !busy.searching(); ++k) {
+    (void)busy.update(OdometryStep{}, scan_from(w.plan.occupancy, carried));
+  }
+  EXPECT_TRUE(busy.searching());
+}  // `busy` is destroyed with its search running: the worker stops within a chunk of boxes
+
 TEST(RecoveringLocalizer, APlaceTheMapLacksIsNoEvidenceAgainstTheTrack) {
   // The map lacks the rooms between x0 and x1 (never seen: unknown cells, no walls); the robot
   // drives through them (scans 750-1150 of the tour). A right track there contradicts nothing
   // the map knows: never lost, never moved; only a track that went wrong in there (more than a
   // metre off) may be replaced. Told that every cell is known, the same run holds a fifth of the
-  // readings there against the track.
+  // readings there against the track and calls right tracks lost.
   const auto& w = test::world();
   const Drive& d = drive();
   const double x0 = 12.0, x1 = 16.5;
@@ -393,7 +433,7 @@ TEST(RecoveringLocalizer, APlaceTheMapLacksIsNoEvidenceAgainstTheTrack) {
   ASSERT_GT(in_gap, 100) << "the drive must enter what the map lacks";
   EXPECT_GT(right_in_gap, in_gap / 4) << "right tracks in the gap must be tested";
   EXPECT_EQ(lost_right, 0);
-  EXPECT_EQ(lost_right_all_known, 0);
+  EXPECT_GT(lost_right_all_known, 0) << "the test would not tell a knowledge-blind detector";
   // What the knowledge changes: the window's contradiction at right poses in the gap (0.008
   // against 0.21 when the missing rooms count as known free space).
   EXPECT_LT(c_known / right_in_gap, 0.05);

@@ -77,6 +77,9 @@ class LostDetector {
   [[nodiscard]] bool in_doubt() const noexcept { return doubt_; }
   /// \return whether the last window was full and judged enough to decide.
   [[nodiscard]] bool decided() const noexcept { return decided_; }
+  /// \return for how many updates in a row a full window was undecided (the map judging too
+  /// little of it).
+  [[nodiscard]] int unjudged() const noexcept { return unjudged_; }
   /// \return the window's contradiction c (0 for an empty window).
   [[nodiscard]] double contradiction() const noexcept { return sum_.contradiction(); }
   /// \return the window's summed agreement.
@@ -95,6 +98,7 @@ class LostDetector {
   double baseline_ = std::numeric_limits<double>::quiet_NaN();
   double variance_ = std::numeric_limits<double>::quiet_NaN();
   bool lost_ = false, doubt_ = false, decided_ = false;
+  int unjudged_ = 0;
 };
 
 }  // namespace vdtnav

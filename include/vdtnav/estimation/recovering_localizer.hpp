@@ -12,15 +12,20 @@
 /// While the window is lost or in doubt, a branch and bound looks for other poses — for a clearly
 /// better one than the track (localize_better) in doubt, anywhere when lost — as an anytime
 /// computation: each update scores at most `search_boxes` boxes, the search's queue is kept
-/// between updates, so tracking never waits for it. Its leaves (poses at the scan it started on)
+/// between updates (or, with `search_thread`, it runs on a worker thread), so tracking never
+/// waits for it. Its leaves (poses at the scan it started on)
 /// are carried forward with the odometry to become candidates. A candidate is then tracked beside
-/// the track for `verify_scans` scans (solved on the map from its odometry prediction, each scan
-/// weighed at its pose), and adopted only when, over those scans, the map judges it, contradicts
-/// it at most found_contradiction, contradicts it less than the track by `verify_margin`, and it
-/// explains at least as much as the track — never on one scan, never while the map agrees with
-/// the track (the search and the candidates are dropped once the window is decided below doubt),
-/// and never when two distinct candidates pass (an ambiguous place: the loss is kept).
+/// the track for `verify_scans` scans (solved on the map from its odometry prediction, the first
+/// time from the best pose of a window around it; each scan weighed at its pose), and adopted only
+/// when, over those scans, the map judges it, it explains at least global localization's
+/// accept_fraction and `verify_margin` more than the track, the map contradicts it at most
+/// found_contradiction and (where it judges the track) `verify_margin` less than the track —
+/// never on one scan, never while the map agrees with the track (the search and the candidates
+/// are dropped once the window is decided below doubt), and never when another distinct candidate
+/// passes within the ambiguity margin (an ambiguous place: the loss is kept).
 
+#include <atomic>
+#include <future>
 #include <memory>
 #include <optional>
 #include <string>
@@ -49,16 +54,21 @@ struct RecoveryOptions {
   /// How a scan is weighed at a pose (explained, contradicted, unknown).
   ScanAgreementOptions agreement;
   /// Boxes of the branch and bound scored per update: the search's share of an update's time
-  /// (about 0.1-0.5 microseconds a box on a 2 GHz core; 20000: a few milliseconds).
+  /// (0.2-0.4 microseconds a box on the Intel lab's map, ~1.1 on MIT Killian Court's 250 x 240 m:
+  /// 30000 boxes cost 6-35 ms).
   int search_boxes = 30000;
+  /// Run the search on a worker thread instead (a second core): updates never spend time on it
+  /// and a search finishes within a scan period or two, whatever the map; when it finishes
+  /// depends on the machine's load, so runs are not repeated bit for bit. search_boxes is unused.
+  bool search_thread = false;
   /// The search's leaves: boxes of about this size (metres; at least the map's cell, in powers of
   /// two of it), with headings in steps that move the scan's far readings by as much. The
   /// candidates' solves refine them (the optimizer's coarse levels reach that far).
   double search_leaf = 0.2;
   /// Scans over which a candidate is tracked beside the track before it can be adopted.
   int verify_scans = 3;
-  /// Clearly better: the candidate's contradiction over those scans is at most the track's less
-  /// this.
+  /// Clearly better: over those scans the candidate explains this much more than the track and,
+  /// where the map judges the track, is contradicted this much less.
   double verify_margin = 0.2;
   /// In doubt (not lost), the search keeps only poses whose truncated score (global localization's)
   /// is below the track's by this fraction of N tau^2.
@@ -81,6 +91,10 @@ class RecoveringLocalizer final : public Localizer2D {
                       const OccupancyGrid<2>& occupancy, const GlobalLocalizationOptions& global,
                       const RecoveryOptions& options = {}, const MapKnowledge& knowledge = {});
 
+  ~RecoveringLocalizer() override;
+  RecoveringLocalizer(const RecoveringLocalizer&) = delete;
+  RecoveringLocalizer& operator=(const RecoveringLocalizer&) = delete;
+
   void reset(const Pose2& pose, const Eigen::Matrix3d& covariance) override;
   using Localizer2D::update;
   [[nodiscard]] LocalizationResult update(const OdometryStep& odometry,
@@ -100,7 +114,7 @@ class RecoveringLocalizer final : public Localizer2D {
   /// \return the last scan's agreement at the reported pose.
   [[nodiscard]] const ScanAgreement& agreement() const noexcept { return agreement_; }
   /// \return whether a search is in progress, and how many candidates are being verified.
-  [[nodiscard]] bool searching() const noexcept { return search_.has_value(); }
+  [[nodiscard]] bool searching() const noexcept { return search_.has_value() || worker_.valid(); }
   [[nodiscard]] std::size_t candidates() const noexcept { return candidates_.size(); }
 
  private:
@@ -113,12 +127,19 @@ class RecoveringLocalizer final : public Localizer2D {
   /// Solves the candidates on this scan and weighs them; drops the failed and the contradicted.
   void verify(const OdometryStep& odometry, const ScanPoints& observations,
               const ScanAgreement& track);
+  /// The best start of a window around `pose` (guess_search.hpp) for the optimizer.
+  [[nodiscard]] Pose2 local_start(const ScanPoints& observations, const Pose2& pose) const;
   /// The agreement the window weighs: agreement_ (at the estimate) or, when that is in doubt,
   /// at the pose the optimizer reaches from the estimate, if less contradicted.
   [[nodiscard]] ScanAgreement near_agreement(const ScanPoints& observations, const Pose2& estimate);
   /// The candidate to adopt, if exactly one distinct place passes (file comment).
   [[nodiscard]] std::optional<std::size_t> choose();
   void drop_search();
+  /// Starts `search` (in this thread's budget or on the worker, options_.search_thread).
+  void start_search(GlobalLocalizer::Search search);
+  /// Advances the search by this update's budget (or looks at the worker): the finished search,
+  /// if it finished.
+  [[nodiscard]] std::optional<GlobalLocalizer::Search> advance_search(LocalizationResult& r);
 
   std::unique_ptr<Localizer2D> tracker_;
   const VdtMap2* map_;
@@ -129,8 +150,10 @@ class RecoveringLocalizer final : public Localizer2D {
   RecoveryOptions options_;
   LostDetector detector_;
   ScanAgreement agreement_;
-  std::optional<GlobalLocalizer::Search> search_;
-  Pose2 since_search_ = Pose2::Zero();  // odometry since the search's scan
+  std::optional<GlobalLocalizer::Search> search_;  // in the updates' budget
+  std::future<GlobalLocalizer::Search> worker_;    // or on the worker thread
+  std::shared_ptr<std::atomic<bool>> cancel_;      // tells the worker to stop
+  Pose2 since_search_ = Pose2::Zero();             // odometry since the search's scan
   std::vector<Candidate> candidates_;
   std::vector<Pose2> ambiguous_poses_;
   int recoveries_ = 0, searches_ = 0, ambiguous_ = 0;
