@@ -18,6 +18,9 @@
 // wrong_accepted; vdt-opt): recovered_pct is the share recovered within 20 scans (the issue's
 // target), the median over those recovered before the next teleport; kidnap.md has both methods,
 // and <map>_kidnap.png vdt-opt's position error with the teleports and the lost scans.
+//
+// With --data, the false alarms of lost detection on the real logs (false_alarms.hpp):
+// false_alarms.csv, false_alarms.md, <log>_agreement.png.
 #include <CLI/CLI.hpp>
 
 #include <algorithm>
@@ -30,6 +33,7 @@
 #include <string>
 #include <vector>
 
+#include "false_alarms.hpp"
 #include "kidnapping.hpp"
 #include "vdtnav/core/error.hpp"
 #include "vdtnav/estimation/global_localization.hpp"
@@ -217,7 +221,8 @@ int main(int argc, char** argv) {
                  "Intel lab; without it, the generated floor plan only");
   std::vector<std::string> only;
   app.add_option("--maps", only,
-                 "run these maps only (generated, hospital-section, fetch-office, intel)");
+                 "run these maps only (generated, hospital-section, fetch-office, intel; "
+                 "false-alarms: lost detection on the real logs)");
   app.add_option("--trials", trials, "scans per map")
       ->capture_default_str()
       ->check(CLI::Range(1, 100000));
@@ -322,7 +327,8 @@ int main(int argc, char** argv) {
            "converged elsewhere before the window (scans) | converged off 0.3 m / 0.1 rad after "
            "recovery (scans) | lost scans | global searches | s |\n"
            "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
-    viz::Figure hist(1400, 500 * static_cast<int>(cases.size()), static_cast<int>(cases.size()), 1);
+    const int rows = std::max(1, static_cast<int>(cases.size()));
+    viz::Figure hist(1400, 500 * rows, rows, 1);
     for (std::size_t m = 0; m < cases.size(); ++m) {
       Case& c = cases[m];
       const VdtMap2 map = VdtMap2::build(c.grid);
@@ -442,7 +448,13 @@ int main(int argc, char** argv) {
           .line(centres, counts,
                 viz::Style().with_marker(viz::Marker::kCircle, 6).with_label("branch-and-bound"));
     }
-    hist.save_png(out + "/times.png");
+    if (!cases.empty()) hist.save_png(out + "/times.png");
+    if (!data.empty() && (only.empty() || std::count(only.begin(), only.end(), "false-alarms"))) {
+      std::printf("[false alarms] lost detection on the real logs (vdtnav localize's defaults)\n");
+      if (false_alarms::run(data, out) > 0) {
+        std::printf("[done] %s/false_alarms.csv, false_alarms.md, *_agreement.png\n", out.c_str());
+      }
+    }
     std::printf("[done] %s/table.csv\n", out.c_str());
   } catch (const Error& e) {
     std::fprintf(stderr, "error: %s\n", e.what());
