@@ -1,99 +1,113 @@
 #!/usr/bin/env bash
 # The main job: builds vdtnav and runs its studies on the embedded, generated defaults, plus the
 # real-data studies when the data is there (default ../shared/data, or the path given as $1).
-# Writes tables and PNG plots under out/.
+# Writes tables and PNG plots under out/ (or the folder $VDTNAV_OUT names).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 data="${1:-../shared/data}"
 
 scripts/setup.sh release
 bin=build/release/examples
-mkdir -p out
-
-echo "== [1/20] VDT maps: generated floor plan (embedded default)"
-"$bin/map_demo/vdtnav_map_demo" --out out/map_demo
-echo "== [2/20] Table 3.3 study: five localizers on a simulated LiDAR run (generated floor plan)"
-"$bin/turtlebot_lidar/vdtnav_turtlebot_lidar" --out out/turtlebot_lidar
-echo "== [3/20] Table 3.4 study: 6-DOF pan-tilt point-laser localization (generated 3D room)"
-"$bin/pan_tilt_3d/vdtnav_pan_tilt_3d" --room --out out/pan_tilt_3d
+out="${VDTNAV_OUT:-out}"
+mkdir -p "$out"
+start=$SECONDS
+step_name=""
+step_start=$SECONDS
+# Each step says what it runs and, when the next begins, how long it took.
+step() {
+  if [ -n "$step_name" ]; then echo "   (${step_name%%]*}] took $((SECONDS - step_start)) s)"; fi
+  step_name="$1"
+  step_start=$SECONDS
+  echo "== $1"
+}
+step "[1/20] VDT maps: generated floor plan (embedded default)"
+"$bin/map_demo/vdtnav_map_demo" --out "$out/map_demo"
+step "[2/20] Table 3.3 study: five localizers on a simulated LiDAR run (generated floor plan)"
+"$bin/turtlebot_lidar/vdtnav_turtlebot_lidar" --out "$out/turtlebot_lidar"
+step "[3/20] Table 3.4 study: 6-DOF pan-tilt point-laser localization (generated 3D room)"
+"$bin/pan_tilt_3d/vdtnav_pan_tilt_3d" --room --out "$out/pan_tilt_3d"
 if [ -x "$bin/uav_camera/vdtnav_uav_camera" ]; then
-  echo "== [4/20] UAV downward camera over a figure-of-eight road on a runway (generated)"
-  "$bin/uav_camera/vdtnav_uav_camera" --out out/uav_camera
+  step "[4/20] UAV downward camera over a figure-of-eight road on a runway (generated)"
+  "$bin/uav_camera/vdtnav_uav_camera" --out "$out/uav_camera"
 fi
 if [ -x "$bin/pmd_rgbd/vdtnav_pmd_rgbd" ]; then
-  echo "== [5/20] PMD with a rear RGB-D camera in a generated park: ground boundaries + bearings"
-  "$bin/pmd_rgbd/vdtnav_pmd_rgbd" --out out/pmd_rgbd
+  step "[5/20] PMD with a rear RGB-D camera in a generated park: ground boundaries + bearings"
+  "$bin/pmd_rgbd/vdtnav_pmd_rgbd" --out "$out/pmd_rgbd"
 fi
-echo "== [6/20] Uncertain VDT maps (thesis ch. 5): Fig. 5.2, Experiments 1 and 2, localization on the fitted map (generated corridor)"
-"$bin/uncertain_map/vdtnav_uncertain_map" --out out/uncertain_map
-echo "== [7/20] Active localization with one rotating range beam (thesis ch. 4, generated floor plans)"
-"$bin/active_beam/vdtnav_active_beam" --out out/active_beam
-echo "== [8/20] Never lost: global localization from one scan (branch and bound vs random sampling) and the kidnapped robot (generated floor plan)"
-"$bin/kidnapped/vdtnav_kidnapped" --out out/kidnapped
+step "[6/20] Uncertain VDT maps (thesis ch. 5): Fig. 5.2, Experiments 1 and 2, localization on the fitted map (generated corridor)"
+"$bin/uncertain_map/vdtnav_uncertain_map" --out "$out/uncertain_map"
+step "[7/20] Active localization with one rotating range beam (thesis ch. 4, generated floor plans)"
+"$bin/active_beam/vdtnav_active_beam" --out "$out/active_beam"
+step "[8/20] Never lost: global localization from one scan (branch and bound vs random sampling) and the kidnapped robot (generated floor plan)"
+"$bin/kidnapped/vdtnav_kidnapped" --out "$out/kidnapped"
 if [ -x "$bin/lidar_3d/vdtnav_lidar_3d" ]; then
-  echo "== [9/20] 3D LiDAR: a simulated VLP-16 driving through the generated 3D room, 6-DOF and 4-DOF"
-  "$bin/lidar_3d/vdtnav_lidar_3d" --out out/lidar_3d
+  step "[9/20] 3D LiDAR: a simulated VLP-16 driving through the generated 3D room, 6-DOF and 4-DOF"
+  "$bin/lidar_3d/vdtnav_lidar_3d" --out "$out/lidar_3d"
 fi
 if [ -d "$data" ]; then
-  echo "== [10/20] Active localization on the Willow Garage and fetch-office maps (real maps)"
-  "$bin/active_beam/vdtnav_active_beam" --data "$data" --out out/active_beam_real
-  echo "== [11/20] VDT maps: Player/Stage hospital section (real floor plan, $data)"
-  "$bin/map_demo/vdtnav_map_demo" --out out/map_demo_hospital \
+  step "[10/20] Active localization on the Willow Garage and fetch-office maps (real maps)"
+  "$bin/active_beam/vdtnav_active_beam" --data "$data" --out "$out/active_beam_real"
+  step "[11/20] VDT maps: Player/Stage hospital section (real floor plan, $data)"
+  "$bin/map_demo/vdtnav_map_demo" --out "$out/map_demo_hospital" \
     --map "$data/stage_maps/hospital_section.png" --size 40x18
-  echo "== [12/20] Table 3.3 study on the hospital section (the thesis's environment)"
-  "$bin/turtlebot_lidar/vdtnav_turtlebot_lidar" --out out/turtlebot_lidar_hospital \
+  step "[12/20] Table 3.3 study on the hospital section (the thesis's environment)"
+  "$bin/turtlebot_lidar/vdtnav_turtlebot_lidar" --out "$out/turtlebot_lidar_hospital" \
     --map "$data/stage_maps/hospital_section.png" --size 40x18
-  echo "== [13/20] Intel Research Lab: map from the last third, localize the first two (real log)"
-  "$bin/intel_lab/vdtnav_intel_lab" --data "$data" --out out/intel_lab
+  step "[13/20] Intel Research Lab: map from the last third, localize the first two (real log)"
+  "$bin/intel_lab/vdtnav_intel_lab" --data "$data" --out "$out/intel_lab"
   if [ -f "$data/3d/dll-catec/catec.bt" ] && [ -x "$bin/pan_tilt_3d/vdtnav_pan_tilt_3d" ]; then
-    echo "== [14/20] Table 3.4 study on the real CATEC OctoMap"
+    step "[14/20] Table 3.4 study on the real CATEC OctoMap"
     "$bin/pan_tilt_3d/vdtnav_pan_tilt_3d" --map "$data/3d/dll-catec/catec.bt" \
-      --out out/pan_tilt_3d_catec
+      --out "$out/pan_tilt_3d_catec"
   fi
   if [ -f "$data/3d/dll-catec/catec.bt" ] && [ -x "$bin/lidar_3d/vdtnav_lidar_3d" ]; then
-    echo "== [15/20] 3D LiDAR: a simulated VLP-16 driving through the real CATEC OctoMap"
-    "$bin/lidar_3d/vdtnav_lidar_3d" --map "$data/3d/dll-catec/catec.bt" --out out/lidar_3d_catec
+    step "[15/20] 3D LiDAR: a simulated VLP-16 driving through the real CATEC OctoMap"
+    "$bin/lidar_3d/vdtnav_lidar_3d" --map "$data/3d/dll-catec/catec.bt" --out "$out/lidar_3d_catec"
   fi
   if [ -f "$data/vision/aerial/aero1.jpg" ] && [ -x "$bin/uav_camera/vdtnav_uav_camera" ]; then
-    echo "== [16/20] UAV downward camera over a real aerial photograph laid on the ground"
+    step "[16/20] UAV downward camera over a real aerial photograph laid on the ground"
     "$bin/uav_camera/vdtnav_uav_camera" --texture "$data/vision/aerial/aero1.jpg" \
-      --out out/uav_camera_photo
+      --out "$out/uav_camera_photo"
   fi
   if [ -f "$data/vision/rgbd-kinect/pose.txt" ] && [ -x "$bin/pmd_rgbd/vdtnav_pmd_rgbd" ]; then
-    echo "== [17/20] RGB-D: relative localization between recorded Kinect frames (real frames)"
-    "$bin/pmd_rgbd/vdtnav_pmd_rgbd" --kinect "$data/vision/rgbd-kinect" --out out/pmd_rgbd_kinect
+    step "[17/20] RGB-D: relative localization between recorded Kinect frames (real frames)"
+    "$bin/pmd_rgbd/vdtnav_pmd_rgbd" --kinect "$data/vision/rgbd-kinect" --out "$out/pmd_rgbd_kinect"
   fi
   if [ -f "$data/intel-lab/intel.relations" ]; then
-    echo "== [18/20] Uncertain VDT maps on the Willow Garage corridor and the Intel lab (real map and log)"
-    "$bin/uncertain_map/vdtnav_uncertain_map" --data "$data" --out out/uncertain_map_real
+    step "[18/20] Uncertain VDT maps on the Willow Garage corridor and the Intel lab (real map and log)"
+    "$bin/uncertain_map/vdtnav_uncertain_map" --data "$data" --out "$out/uncertain_map_real"
   fi
-  echo "== [19/20] Never lost: global localization and the kidnapped robot on the hospital section, fetch-office (simulated scans) and the Intel lab (real scans and odometry)"
-  "$bin/kidnapped/vdtnav_kidnapped" --data "$data" --out out/kidnapped_real
+  step "[19/20] Never lost: global localization and the kidnapped robot on the hospital section, fetch-office (simulated scans) and the Intel lab (real scans and odometry); false alarms of lost detection on the real logs"
+  "$bin/kidnapped/vdtnav_kidnapped" --data "$data" --out "$out/kidnapped_real"
   lpm="$data/3d/libpointmatcher"
   if [ -f "$lpm/car_cloud401.csv" ] && build/release/tools/vdtnav/vdtnav localize3d --help >/dev/null 2>&1; then
-    echo "== [20/20] vdtnav localize3d: libpointmatcher's real car scans, each on a map of the other, from identity"
-    mkdir -p out/localize3d_car
+    step "[20/20] vdtnav localize3d: libpointmatcher's real car scans, each on a map of the other, from identity"
+    mkdir -p "$out/localize3d_car"
     build/release/tools/vdtnav/vdtnav localize3d --map "$lpm/car_cloud400.csv" \
       --crop -40,-40,-12,40,40,20 --resolution 0.2 --scan "$lpm/car_cloud401.csv" --multi-start \
-      --out out/localize3d_car/car_cloud401_in_400.yaml
+      --out "$out/localize3d_car/car_cloud401_in_400.yaml"
     build/release/tools/vdtnav/vdtnav localize3d --map "$lpm/car_cloud401.csv" \
       --crop -40,-40,-12,40,40,20 --resolution 0.2 --scan "$lpm/car_cloud400.csv" --multi-start \
-      --out out/localize3d_car/car_cloud400_in_401.yaml
+      --out "$out/localize3d_car/car_cloud400_in_401.yaml"
   fi
 else
   echo "== no data folder at '$data': skipping the real-data studies"
 fi
-echo "== done: tables and figures in out/"
-for t in out/turtlebot_lidar*/table.md out/intel_lab/table.md out/pan_tilt_3d*/table.md out/lidar_3d*/table.md out/uav_camera*/table.md out/pmd_rgbd/table.md out/uncertain_map*/table.md out/active_beam*/table.md out/kidnapped*/table.md; do
+if [ -n "$step_name" ]; then echo "   (${step_name%%]*}] took $((SECONDS - step_start)) s)"; fi
+echo "== done in $((SECONDS - start)) s: tables and figures in $out/"
+for t in "$out"/turtlebot_lidar*/table.md "$out"/intel_lab/table.md "$out"/pan_tilt_3d*/table.md \
+         "$out"/lidar_3d*/table.md "$out"/uav_camera*/table.md "$out"/pmd_rgbd/table.md \
+         "$out"/uncertain_map*/table.md "$out"/active_beam*/table.md "$out"/kidnapped*/table.md \
+         "$out"/kidnapped_real/false_alarms.md; do
   [ -f "$t" ] || continue
   echo "-- $t"
   cat "$t"
 done
-if [ -f out/uncertain_map_real/intel.csv ]; then
-  echo "-- out/uncertain_map_real/intel.csv"
-  cat out/uncertain_map_real/intel.csv
+if [ -f "$out"/uncertain_map_real/intel.csv ]; then
+  echo "-- $out/uncertain_map_real/intel.csv"
+  cat "$out"/uncertain_map_real/intel.csv
 fi
-if [ -f out/pmd_rgbd_kinect/kinect_relative.csv ]; then
-  echo "-- out/pmd_rgbd_kinect/kinect_relative.csv"
-  cat out/pmd_rgbd_kinect/kinect_relative.csv
+if [ -f "$out"/pmd_rgbd_kinect/kinect_relative.csv ]; then
+  echo "-- $out/pmd_rgbd_kinect/kinect_relative.csv"
+  cat "$out"/pmd_rgbd_kinect/kinect_relative.csv
 fi

@@ -1,16 +1,31 @@
 #!/usr/bin/env bash
-# The test suite: a Release build with -Wall -Wextra -Wpedantic -Werror and all tests, the tests
-# again under AddressSanitizer + UndefinedBehaviorSanitizer, the benchmarks in smoke mode, and
-# the parsers' fuzz targets for a few seconds each (scripts/fuzz.sh runs them for longer).
+# The test suite: a Release build with -Wall -Wextra -Wpedantic -Werror and all tests, the main
+# job's studies with their headline figures checked against tests/studies/expected.yaml, the
+# tests again under AddressSanitizer + UndefinedBehaviorSanitizer, the benchmarks in smoke mode,
+# and the parsers' fuzz targets for a few seconds each (scripts/fuzz.sh runs them for longer).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 jobs="$(nproc)"
 
-echo "== [1/4] Release build (-Werror) and tests"
+data="${1:-../shared/data}"
+
+echo "== [1/5] Release build (-Werror) and tests"
 scripts/setup.sh release
 ctest --test-dir build/release --output-on-failure -j "$jobs"
 
-echo "== [2/4] ASan + UBSan build and tests"
+echo "== [2/5] The studies are tests: the main job, then its figures against the recorded ones"
+# Into a folder of its own (a fresh one: a study that did not run must not pass on old tables).
+studies=build/studies
+rm -rf "$studies"
+VDTNAV_OUT="$studies" scripts/main.sh "$data" > build/main_job.log 2>&1 || {
+  tail -n 40 build/main_job.log
+  echo "the main job failed (build/main_job.log)"
+  exit 1
+}
+grep -E '^== |took [0-9]+ s' build/main_job.log
+build/release/tests/studies/vdtnav_check_studies tests/studies/expected.yaml "$studies" "$data"
+
+echo "== [3/5] ASan + UBSan build and tests"
 scripts/setup.sh asan
 # Under the sanitizers the long simulations run 10-20x slower: the Monte Carlo calibrations, the
 # kidnapped-robot drives, the occupancy mapping of a whole run, the exhaustive global search and
@@ -21,14 +36,14 @@ asan_skip+='|Kidnapped\.|VdtLocalizer3\.ATeleport|GlobalLocalization\.BestLeafIs
 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
   ctest --test-dir build/asan --output-on-failure -j "$jobs" -E "$asan_skip"
 
-echo "== [3/4] Benchmarks, smoke mode (one short run each; numbers are not meaningful here)"
+echo "== [4/5] Benchmarks, smoke mode (one short run each; numbers are not meaningful here)"
 # BM_LocalizeIntelCeres is left out here: a whole Intel run (~50 s) like BM_LocalizeIntel, with
 # Ceres instead of the dense solver that the small Ceres benchmarks already run.
 for b in build/release/bench/bench_*; do
   [ -x "$b" ] || continue
   "$b" --benchmark_min_time=0.01 --benchmark_format=console --benchmark_filter=-BM_LocalizeIntelCeres
 done
-echo "== [4/4] Fuzz targets of the parsers, 3000 inputs each (clang, libFuzzer, ASan + UBSan)"
+echo "== [5/5] Fuzz targets of the parsers, 3000 inputs each (clang, libFuzzer, ASan + UBSan)"
 # A fixed seed and input count: the same inputs on every run, so a test run never fails on a
 # new random find (scripts/fuzz.sh without FUZZ_SEED explores). The settings-file target needs
 # the whole localization library under clang: scripts/fuzz.sh runs it; here the file parsers.

@@ -1,0 +1,170 @@
+#include "study_figures.hpp"
+
+#include <yaml-cpp/yaml.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+#include "vdtnav/core/error.hpp"
+
+namespace vdtnav::studies {
+
+namespace {
+
+using Table = std::vector<std::map<std::string, std::string>>;
+
+std::vector<std::string> split(const std::string& line) {
+  std::vector<std::string> out;
+  std::stringstream s(line);
+  std::string f;
+  while (std::getline(s, f, ',')) out.push_back(f);
+  if (!line.empty() && line.back() == ',') out.emplace_back();
+  return out;
+}
+
+/// A CSV with a header line, as rows of column -> text.
+Table read_csv(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw IoError(path + ": cannot open (did the main job run this study?)");
+  std::string line;
+  if (!std::getline(in, line)) throw FormatError(path, 1, "expected a header line");
+  const std::vector<std::string> header = split(line);
+  Table t;
+  for (int n = 2; std::getline(in, line); ++n) {
+    if (line.empty()) continue;
+    const std::vector<std::string> fields = split(line);
+    if (fields.size() != header.size()) {
+      throw FormatError(path, static_cast<std::size_t>(n),
+                        "expected " + std::to_string(header.size()) + " fields, found " +
+                            std::to_string(fields.size()));
+    }
+    std::map<std::string, std::string> row;
+    for (std::size_t i = 0; i < header.size(); ++i) row[header[i]] = fields[i];
+    t.push_back(std::move(row));
+  }
+  return t;
+}
+
+/// "<= v", ">= v", "< v", "> v", "in [a, b]": whether x meets it (true for an unparsed target).
+bool meets(const std::string& target, double x) {
+  double a = 0.0, b = 0.0;
+  if (std::sscanf(target.c_str(), " in [ %lf , %lf ]", &a, &b) == 2) return x >= a && x <= b;
+  char op[3] = {0, 0, 0};
+  if (std::sscanf(target.c_str(), " %2[<>=] %lf", op, &a) == 2) {
+    const std::string o(op);
+    if (o == "<=") return x <= a;
+    if (o == ">=") return x >= a;
+    if (o == "<") return x < a;
+    if (o == ">") return x > a;
+  }
+  return true;
+}
+
+}  // namespace
+
+std::vector<FigureCheck> check_study_figures(const std::string& expected_yaml,
+                                             const std::string& out_dir,
+                                             const std::string& data_dir) {
+  YAML::Node root;
+  try {
+    root = YAML::LoadFile(expected_yaml);
+  } catch (const YAML::BadFile&) {
+    throw IoError(expected_yaml + ": cannot open");
+  } catch (const YAML::Exception& e) {
+    throw FormatError(expected_yaml, static_cast<std::size_t>(e.mark.line + 1), e.msg);
+  }
+  if (!root.IsSequence()) {
+    throw FormatError(expected_yaml, 1, "expected a list of figures (- file: ..., column: ...)");
+  }
+  std::map<std::string, Table> tables;
+  std::vector<FigureCheck> out;
+  for (const YAML::Node& e : root) {
+    const std::size_t line = static_cast<std::size_t>(e.Mark().line + 1);
+    if (!e.IsMap() || !e["file"] || !e["column"] || !e["row"] || !e["row"].IsMap()) {
+      throw FormatError(expected_yaml, line,
+                        "expected file, row (a map of column: value) and column");
+    }
+    if (!e["value"] && !e["min"] && !e["max"]) {
+      throw FormatError(expected_yaml, line, "expected value (with tolerance), min or max");
+    }
+    FigureCheck c;
+    c.file = e["file"].as<std::string>();
+    c.column = e["column"].as<std::string>();
+    c.target = e["target"] ? e["target"].as<std::string>() : "";
+    c.reason = e["reason"] ? e["reason"].as<std::string>() : "";
+    std::map<std::string, std::string> key;
+    for (const auto& kv : e["row"]) {
+      key[kv.first.as<std::string>()] = kv.second.as<std::string>();
+      c.row += (c.row.empty() ? "" : ", ") + kv.first.as<std::string>() + "=" +
+               kv.second.as<std::string>();
+    }
+    const double value = e["value"] ? e["value"].as<double>() : std::nan("");
+    const double tolerance = e["tolerance"] ? e["tolerance"].as<double>() : 0.0;
+    const double lo = e["min"] ? e["min"].as<double>() : -INFINITY;
+    const double hi = e["max"] ? e["max"].as<double>() : INFINITY;
+    if (e["value"] && !meets(c.target, value) && c.reason.empty()) {
+      throw FormatError(
+          expected_yaml, line,
+          "the recorded value is outside its target '" + c.target + "': say why in reason");
+    }
+    if (e["skip_without"]) {
+      const std::string input = e["skip_without"].as<std::string>();
+      if (!std::filesystem::exists(std::filesystem::path(data_dir) / input)) {
+        c.skipped = true;
+        c.passed = true;
+        c.message = "no " + input + " in " + data_dir;
+        out.push_back(c);
+        continue;
+      }
+    }
+    const std::string path = (std::filesystem::path(out_dir) / c.file).string();
+    try {
+      auto it = tables.find(path);
+      if (it == tables.end()) it = tables.emplace(path, read_csv(path)).first;
+      const std::map<std::string, std::string>* match = nullptr;
+      int matches = 0;
+      for (const auto& row : it->second) {
+        bool all = true;
+        for (const auto& [k, v] : key) {
+          const auto f = row.find(k);
+          all = all && f != row.end() && f->second == v;
+        }
+        if (all) {
+          match = &row;
+          ++matches;
+        }
+      }
+      if (matches != 1) {
+        c.message = std::to_string(matches) + " rows with " + c.row;
+      } else if (match->count(c.column) == 0) {
+        c.message = "no column " + c.column;
+      } else {
+        const std::string& text = match->at(c.column);
+        char* end = nullptr;
+        c.measured = std::strtod(text.c_str(), &end);
+        if (end == text.c_str()) {
+          c.message = "'" + text + "' is not a number";
+        } else if (e["value"] && !(std::abs(c.measured - value) <= tolerance)) {
+          char m[160];
+          std::snprintf(m, sizeof m, "%g is not %g +- %g", c.measured, value, tolerance);
+          c.message = m;
+        } else if (!(c.measured >= lo && c.measured <= hi)) {
+          char m[160];
+          std::snprintf(m, sizeof m, "%g is not in [%g, %g]", c.measured, lo, hi);
+          c.message = m;
+        } else {
+          c.passed = true;
+        }
+      }
+    } catch (const Error& err) {
+      c.message = err.what();
+    }
+    out.push_back(c);
+  }
+  return out;
+}
+
+}  // namespace vdtnav::studies

@@ -1,0 +1,33 @@
+#pragma once
+// The studies are tests: the main job's headline figures (tables the studies write under out/)
+// checked against the values recorded in tests/studies/expected.yaml.
+//
+// Each entry of that file names a figure — a CSV the main job writes (`file`, relative to the
+// output folder), the row whose columns have the given values (`row`), and a `column` — and
+// what it must be: `value` within `tolerance`, and/or at least `min` / at most `max`. `target`
+// is the target for it ("<= 0.035", ">= 95", "in [2.81, 3.20]"); a recorded value
+// outside its target needs a `reason`, and the entry says why it is accepted there. `skip_without`
+// names an input (relative to the data folder) without which the study does not run: its
+// figures are then reported as skipped, not failed (the embedded defaults run everywhere).
+#include <string>
+#include <vector>
+
+namespace vdtnav::studies {
+
+/// \brief One figure's check and its outcome.
+struct FigureCheck {
+  std::string file, column, row;  ///< row: "key=value, ..." as read
+  std::string target, reason;
+  double measured = 0.0;
+  bool passed = false, skipped = false;
+  std::string message;  ///< what failed (or why skipped)
+};
+
+/// \brief Checks every figure of `expected_yaml` against the CSVs under `out_dir`, the inputs
+/// under `data_dir` deciding which real-data figures apply.
+/// \throws vdtnav::FormatError for a malformed expectations file (file:line: what was expected).
+[[nodiscard]] std::vector<FigureCheck> check_study_figures(const std::string& expected_yaml,
+                                                           const std::string& out_dir,
+                                                           const std::string& data_dir);
+
+}  // namespace vdtnav::studies

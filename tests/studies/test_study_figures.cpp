@@ -1,0 +1,119 @@
+// The studies' figure check (study_figures.hpp) on a small output folder: a figure in range
+// passes, one that moved fails with the file, row and column named, a missing study or row
+// fails, a real-data figure without its data is skipped, and an expectations file that records
+// a value outside its target without a reason is refused. The checked-in expected.yaml parses.
+#include "study_figures.hpp"
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "vdtnav/core/error.hpp"
+
+namespace vdtnav::studies {
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path dir() {
+  const fs::path d = fs::path(VDTNAV_TEST_TMP) / ("studies_" + std::to_string(::getpid()));
+  fs::create_directories(d / "out/intel_lab");
+  return d;
+}
+
+void write(const fs::path& p, const std::string& text) { std::ofstream(p) << text; }
+
+TEST(StudyFigures, InRangePassesMovedFailsMissingFailsNoDataSkips) {
+  const fs::path d = dir();
+  write(d / "out/intel_lab/table.csv",
+        "method,relations,rel_trans_mean_m,lost\ngmapping (reference),58,0.0376,0\n"
+        "vdt-opt,58,0.0295,0\nvdt-ekf,58,0.0587,3\n");
+  write(d / "expected.yaml", R"(
+- file: intel_lab/table.csv
+  row: {method: vdt-opt}
+  column: rel_trans_mean_m
+  value: 0.0295
+  tolerance: 0.001
+  target: "<= 0.035"
+- file: intel_lab/table.csv
+  row: {method: vdt-ekf}
+  column: lost
+  value: 0
+  target: "<= 0"
+  reason: a test of a failing figure
+- file: intel_lab/table.csv
+  row: {method: vdt-ekf}
+  column: rel_trans_mean_m
+  max: 0.05
+- file: intel_lab/table.csv
+  row: {method: pf}
+  column: lost
+  value: 0
+- file: uav_camera/table.csv
+  row: {method: vdt-opt}
+  column: rmse
+  value: 1
+- file: turtlebot_lidar_hospital/table.csv
+  row: {method: vdt-opt}
+  column: rmse
+  value: 1
+  skip_without: stage_maps/hospital_section.png
+)");
+  const auto c =
+      check_study_figures((d / "expected.yaml").string(), (d / "out").string(), d.string());
+  ASSERT_EQ(c.size(), 6U);
+  EXPECT_TRUE(c[0].passed) << c[0].message;
+  EXPECT_NEAR(c[0].measured, 0.0295, 1e-12);
+  EXPECT_FALSE(c[1].passed);  // 3 lost, recorded 0
+  EXPECT_EQ(c[1].message, "3 is not 0 +- 0");
+  EXPECT_FALSE(c[2].passed);  // 0.0587 > max 0.05
+  EXPECT_FALSE(c[3].passed);  // no row method=pf
+  EXPECT_EQ(c[3].message, "0 rows with method=pf");
+  EXPECT_FALSE(c[4].passed);  // the study did not run
+  EXPECT_NE(c[4].message.find("uav_camera/table.csv"), std::string::npos) << c[4].message;
+  EXPECT_TRUE(c[5].skipped);
+  EXPECT_TRUE(c[5].passed);
+}
+
+TEST(StudyFigures, AValueOutsideItsTargetNeedsAReason) {
+  const fs::path d = dir();
+  write(d / "bad.yaml", R"(
+- file: intel_lab/table.csv
+  row: {method: vdt-opt}
+  column: rel_trans_mean_m
+  value: 0.04
+  tolerance: 0.001
+  target: "<= 0.035"
+)");
+  try {
+    (void)check_study_figures((d / "bad.yaml").string(), (d / "out").string(), d.string());
+    FAIL() << "no error";
+  } catch (const FormatError& e) {
+    EXPECT_NE(std::string(e.what()).find("bad.yaml:2: the recorded value is outside its target"),
+              std::string::npos)
+        << e.what();
+  }
+  write(d / "in.yaml", R"(
+- file: x.csv
+  row: {method: a}
+  column: c
+  value: 3.1
+  target: "in [2.81, 3.20]"
+)");
+  EXPECT_NO_THROW(
+      (void)check_study_figures((d / "in.yaml").string(), (d / "out").string(), d.string()));
+}
+
+TEST(StudyFigures, TheCheckedInExpectationsParse) {
+  // Every entry well formed and every recorded value inside its target or with a reason; the
+  // figures themselves are checked by scripts/test.sh after the main job.
+  const fs::path expected = fs::path(VDTNAV_SOURCE_DIR) / "tests/studies/expected.yaml";
+  const auto c = check_study_figures(expected.string(), "/nonexistent", "/nonexistent");
+  EXPECT_GT(c.size(), 20U);
+}
+
+}  // namespace
+}  // namespace vdtnav::studies
