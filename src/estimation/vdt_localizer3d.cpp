@@ -1,6 +1,7 @@
 #include "vdtnav/estimation/vdt_localizer3d.hpp"
 
 #include <cmath>
+#include <limits>
 #include <vector>
 
 #include <Eigen/Cholesky>
@@ -15,6 +16,8 @@ void check(const VdtLocalizer3Options& o) {
                    o.sigma_translation_per_second >= 0.0 && o.sigma_rotation_per_second >= 0.0 &&
                    o.sigma_imu_attitude > 0.0,
                "localizer3d: odometry and IMU sigmas must be >= 0 (the IMU's > 0)");
+  VDTNAV_CHECK(std::isnan(o.held_attitude_sigma) || o.held_attitude_sigma > 0.0,
+               "localizer3d: held_attitude_sigma must be > 0, or NaN (not estimated)");
   VDTNAV_CHECK(o.explained_distance > 0.0, "localizer3d: explained_distance must be > 0");
   VDTNAV_CHECK(o.accept_fraction >= 0.0 && o.accept_fraction <= 1.0,
                "localizer3d: accept_fraction must be in [0, 1]");
@@ -74,7 +77,17 @@ std::string VdtOptimizationLocalizer3::name() const {
 }
 
 Matrix6d VdtOptimizationLocalizer3::with_held_attitude(const ObservationSet3& observations,
-                                                       const LocalizationResult3& r) const {
+                                                       const LocalizationResult3& r,
+                                                       double sigma) const {
+  const int f[4] = {0, 1, 2, 5}, h[2] = {3, 4};
+  Matrix6d out = r.covariance;
+  if (std::isnan(sigma)) {  // not estimated: no number for it
+    for (int k : h) {
+      out.row(k).setConstant(std::numeric_limits<double>::quiet_NaN());
+      out.col(k).setConstant(std::numeric_limits<double>::quiet_NaN());
+    }
+    return out;
+  }
   // The cost's 6-DOF Gauss-Newton Hessian at the solution, H = sum_i J_i^T J_i over the inliers
   // (J_i = dd_i/dX): the solve zeroes the free gradient, so a held error dtheta_h moves the free
   // components by S dtheta_h with S = -H_ff^-1 H_fh.
@@ -84,9 +97,7 @@ Matrix6d VdtOptimizationLocalizer3::with_held_attitude(const ObservationSet3& ob
   Matrix6d hessian = Matrix6d::Zero();
   for (const BeamDisparity3& b : d)
     if (b.inlier) hessian.noalias() += b.d_pose.transpose() * b.d_pose;
-  Matrix6d out = r.covariance;
-  const double s2 = options_.sigma_imu_attitude * options_.sigma_imu_attitude;
-  const int f[4] = {0, 1, 2, 5}, h[2] = {3, 4};
+  const double s2 = sigma * sigma;
   Eigen::Matrix4d hff;
   Eigen::Matrix<double, 4, 2> hfh;
   for (int i = 0; i < 4; ++i) {
@@ -119,14 +130,19 @@ LocalizationResult3 VdtOptimizationLocalizer3::update(const OdometryStep3& odome
   q.topLeftCorner<3, 3>().diagonal().setConstant(st * st);  // isotropic: any frame
   q.bottomRightCorner<3, 3>().diagonal().setConstant(sr * sr);
   Matrix6d predicted = f * covariance_ * f.transpose() + q;
+  const bool four_dof = optimizer_.options().four_dof;
+  // The held attitude's sigma: the IMU's, else (4-DOF) the user's or none (NaN).
+  const double held_sigma =
+      odometry.has_attitude() ? options_.sigma_imu_attitude : options_.held_attitude_sigma;
   if (odometry.has_attitude()) {
     const Eigen::Vector3d rpy = rpy_of(guess.linear());
     guess.linear() = pose3_from_xyz_rpy(0, 0, 0, odometry.roll, odometry.pitch, rpy.z()).linear();
-    const double s2 = options_.sigma_imu_attitude * options_.sigma_imu_attitude;
+  }
+  if (odometry.has_attitude() || four_dof) {  // roll and pitch are what is held, not predicted
     for (int k = 3; k <= 4; ++k) {
       predicted.row(k).setZero();
       predicted.col(k).setZero();
-      predicted(k, k) = s2;
+      predicted(k, k) = std::isnan(held_sigma) ? 0.0 : held_sigma * held_sigma;
     }
   }
 
@@ -169,9 +185,15 @@ LocalizationResult3 VdtOptimizationLocalizer3::update(const OdometryStep3& odome
   r.explained = explained;
   const bool accepted = usable(r) && r.has_covariance && explained >= options_.accept_fraction;
   if (accepted) {
-    if (optimizer_.options().four_dof) r.covariance = with_held_attitude(observations, r);
+    if (four_dof) r.covariance = with_held_attitude(observations, r, held_sigma);
     pose_ = r.pose;
     covariance_ = r.covariance;
+    if (four_dof && std::isnan(held_sigma)) {  // kept as the solve gave it (zero held rows)
+      covariance_.row(3).setZero();
+      covariance_.row(4).setZero();
+      covariance_.col(3).setZero();
+      covariance_.col(4).setZero();
+    }
   } else {
     if (r.status == LocalizationStatus::kConverged) r.status = LocalizationStatus::kRefused;
     pose_ = guess;
@@ -179,6 +201,12 @@ LocalizationResult3 VdtOptimizationLocalizer3::update(const OdometryStep3& odome
     r.pose = guess;
     r.covariance = predicted;
     r.has_covariance = true;
+    if (four_dof && std::isnan(held_sigma)) {
+      for (int k = 3; k <= 4; ++k) {  // not estimated (the file comment)
+        r.covariance.row(k).setConstant(std::numeric_limits<double>::quiet_NaN());
+        r.covariance.col(k).setConstant(std::numeric_limits<double>::quiet_NaN());
+      }
+    }
   }
   // 3. Lost detection. A 3D map here carries no unknown space and the readings are not traced
   // through it: every reading the map does not explain counts as contradicting the pose.

@@ -11,6 +11,9 @@
 #include <random>
 #include <vector>
 
+#include <Eigen/Eigenvalues>
+
+#include "vdtnav/core/error.hpp"
 #include "vdtnav/eval/nees.hpp"
 #include "vdtnav/sim/lidar3d_simulator.hpp"
 #include "vdtnav/sim/room3d.hpp"
@@ -113,6 +116,66 @@ TEST(VdtLocalizer3, TracksAVlp16DriveWithAConsistentCovarianceInBothModes) {
   EXPECT_LT(a6.anees, 2.0 * a6.interval.upper);
   EXPECT_LT(a4.anees, 2.0 * a4.interval.upper);
   EXPECT_GT(a6.anees, 0.2);
+}
+
+TEST(VdtLocalizer3, FourDofWithoutAnImuGivesTheHeldAttitudeNoInventedVariance) {
+  // Odometry without roll and pitch (no IMU): the 4-DOF mode holds them at the prediction's (the
+  // start's, moved by the odometry's rotations). Without a
+  // held_attitude_sigma they are not estimated: NaN rows and columns, the free block finite and
+  // positive definite, the next prediction not poisoned. With one, the IMU's treatment: sigma^2 in
+  // the held rows and the free block grown by S sigma^2 S^T.
+  const Drive& d = drive();
+  VdtLocalizer3Options none;
+  none.optimizer.four_dof = true;
+  VdtLocalizer3Options given = none;
+  given.held_attitude_sigma = 0.01;
+  VdtOptimizationLocalizer3 loc_none(*d.map, none);
+  VdtOptimizationLocalizer3 loc_given(loc_none.optimizer(), given);
+  loc_none.reset(d.truth[0], start_covariance());
+  loc_given.reset(d.truth[0], start_covariance());
+  Pose3 last = d.truth[0];
+  std::mt19937 rng(4);
+  for (std::size_t k = 1; k < 12; ++k) {
+    OdometryStep3 odo = none.noisy_odometry(d.truth[k - 1], d.truth[k], 0.1, rng);
+    odo.roll = odo.pitch = std::nan("");  // no IMU
+    const ObservationSet3 obs = scan_at(d.truth[k], rng);
+    const LocalizationResult3 a = loc_none.update(odo, obs);
+    const LocalizationResult3 b = loc_given.update(odo, obs);
+    ASSERT_EQ(a.status, LocalizationStatus::kConverged) << k;
+    ASSERT_EQ(b.status, LocalizationStatus::kConverged) << k;
+    // Roll and pitch are the prediction's: the scan did not move them.
+    const Eigen::Vector3d predicted = rpy_of((last * odo.delta).linear());
+    EXPECT_NEAR(rpy_of(a.pose.linear()).x(), predicted.x(), 1e-9);
+    EXPECT_NEAR(rpy_of(a.pose.linear()).y(), predicted.y(), 1e-9);
+    last = a.pose;
+    const int f[4] = {0, 1, 2, 5};
+    Eigen::Matrix4d free_a, grown;
+    for (int i = 0; i < 6; ++i) {
+      for (int j = 0; j < 6; ++j) {
+        EXPECT_EQ(std::isnan(a.covariance(i, j)), i == 3 || i == 4 || j == 3 || j == 4);
+      }
+    }
+    for (int i = 0; i < 4; ++i) {
+      for (int j = 0; j < 4; ++j) {
+        free_a(i, j) = a.covariance(f[i], f[j]);
+        grown(i, j) = b.covariance(f[i], f[j]) - a.covariance(f[i], f[j]);
+      }
+    }
+    EXPECT_GT(Eigen::SelfAdjointEigenSolver<Eigen::Matrix4d>(free_a).eigenvalues().minCoeff(), 0.0);
+    EXPECT_TRUE(b.covariance.allFinite());
+    EXPECT_NEAR(b.covariance(3, 3), 1e-4, 1e-15);
+    EXPECT_NEAR(b.covariance(4, 4), 1e-4, 1e-15);
+    // The same solve (both start from the same pose and scans): b's free block is a's plus a
+    // positive semi-definite term that is not zero (a tilted scan moves z and x, y).
+    EXPECT_TRUE(a.pose.isApprox(b.pose, 1e-9)) << k;
+    EXPECT_GT(grown.trace(), 1e-3 * free_a.trace()) << k;
+    EXPECT_GT(Eigen::SelfAdjointEigenSolver<Eigen::Matrix4d>(grown).eigenvalues().minCoeff(),
+              -1e-9 * grown.trace());
+  }
+  // A held_attitude_sigma <= 0 is a configuration error.
+  VdtLocalizer3Options bad = none;
+  bad.held_attitude_sigma = 0.0;
+  EXPECT_THROW(VdtOptimizationLocalizer3(*d.map, bad), ConfigError);
 }
 
 TEST(VdtLocalizer3, ThePredictionsCovarianceMatchesMonteCarlo) {

@@ -18,6 +18,7 @@
 #include <vector>
 
 #include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
 
 #include "cli_runner.hpp"
 #include "vdtnav/core/pose3.hpp"
@@ -63,14 +64,28 @@ YamlResult read_yaml(const fs::path& p) {
     std::istringstream s(nums);
     const int cols = block == "pose" ? 4 : 6;
     for (int c = 0; c < cols; ++c) {
-      double v = 0.0;
-      s >> v;
+      std::string word;
+      s >> word;
+      const double v = word == ".nan" ? std::nan("") : std::stod(word);
       if (block == "pose") r.pose(row, c) = v;
       if (block == "covariance") r.covariance(row, c) = v;
     }
     ++row;
   }
   return r;
+}
+
+/// A CSV file's rows, split at commas.
+std::vector<std::vector<std::string>> read_csv(const fs::path& p) {
+  std::ifstream in(p);
+  std::vector<std::vector<std::string>> rows;
+  for (std::string line; std::getline(in, line);) {
+    std::vector<std::string> row;
+    std::stringstream s(line);
+    for (std::string cell; std::getline(s, cell, ',');) row.push_back(cell);
+    rows.push_back(row);
+  }
+  return rows;
 }
 
 /// An ASCII PCD of the finite points (sensor frame, VIEWPOINT at the origin).
@@ -183,6 +198,80 @@ TEST(Cli3d, ASequenceWritesOneYamlPerScanAndATumTrajectoryStampedByFileName) {
     EXPECT_EQ(r.status, "converged") << s;
     EXPECT_LT((r.pose - t.poses[s].pose.matrix()).cwiseAbs().maxCoeff(), 1e-6) << s;
   }
+  // status.csv: one row per scan, the time, status, explained fraction and the covariance's upper
+  // triangle, equal to the YAML's.
+  const std::vector<std::vector<std::string>> table = read_csv(out / "status.csv");
+  ASSERT_EQ(table.size(), 4u);
+  ASSERT_EQ(table[0].size(), 3u + 21u);
+  EXPECT_EQ(table[0][0] + "," + table[0][1] + "," + table[0][2] + "," + table[0][3] + "," +
+                table[0][8] + "," + table[0][9] + "," + table[0][23],
+            "t,status,explained,xx,xrz,yy,rzrz");
+  for (int s = 0; s < 3; ++s) {
+    const std::vector<std::string>& row = table[1 + s];
+    ASSERT_EQ(row.size(), 24u);
+    EXPECT_NEAR(std::stod(row[0]), 100.0 + 0.1 * s, 1e-6);
+    EXPECT_EQ(row[1], "converged");
+    const YamlResult r = read_yaml(out / ("100." + std::to_string(s) + ".yaml"));
+    EXPECT_NEAR(std::stod(row[2]), r.explained, 1e-4);
+    int k = 3;
+    for (int i = 0; i < 6; ++i)
+      for (int j = i; j < 6; ++j, ++k)
+        EXPECT_NEAR(std::stod(row[k]), r.covariance(i, j), 1e-6 * std::abs(r.covariance(i, j)));
+  }
+  // Run again into the same folder with a scan that cannot be read in the middle: exit 1, and the
+  // folder holds what the first run wrote, untouched, and nothing else (no temporary beside it).
+  const fs::path broken = f.dir / "broken_scans";
+  fs::create_directories(broken);
+  for (int s = 0; s < 3; s += 2) {
+    const std::string name = "100." + std::to_string(s) + ".pcd";
+    fs::copy_file(f.dir / "scans" / name, broken / name, fs::copy_options::overwrite_existing);
+  }
+  std::ofstream(broken / "100.1.csv") << "x,y,z\n1,2,3\n4,five,6\n";  // the middle scan
+  const std::vector<std::string> before = test::files_in(out);
+  const std::string tum_before = read_all(out / "trajectory.tum");
+  EXPECT_EQ(run_cli("localize3d --map " + map.string() + " --scans " + broken.string() +
+                        " --init 3.1,4.1,1.2,0,0,0.35 --out " + out.string(),
+                    log),
+            1)
+      << read_all(log);
+  EXPECT_NE(read_all(log).find("100.1.csv:3: expected the numbers x y z"), std::string::npos)
+      << read_all(log);
+  EXPECT_EQ(test::files_in(out), before);
+  EXPECT_EQ(read_all(out / "trajectory.tum"), tum_before);
+  const fs::path fresh = f.dir / "fresh_seq";
+  EXPECT_EQ(run_cli("localize3d --map " + map.string() + " --scans " + broken.string() +
+                        " --init 3.1,4.1,1.2,0,0,0.35 --out " + fresh.string(),
+                    log),
+            1);
+  EXPECT_FALSE(fs::exists(fresh));
+  for (const std::string& name : test::files_in(f.dir)) {
+    EXPECT_EQ(name.find(".vdtnav-"), std::string::npos) << name;  // no temporary left
+  }
+}
+
+TEST(Cli3d, AMapThatExplainsNoScanExits3WithAnEmptyTrajectory) {
+  // The map cropped to a corner of the room: no scan is explained at the guess, every scan is
+  // refused; the run completes, writes its outputs and exits 3.
+  const Fixture& f = fixture();
+  const fs::path out = f.dir / "unexplained", log = f.dir / "unexplained.log";
+  EXPECT_EQ(run_cli("localize3d --map " + (f.dir / "room.csv").string() +
+                        " --crop -0.2,-0.2,-0.2,1.5,1.5,3.6 --scans " + (f.dir / "scans").string() +
+                        " --init 3.1,4.1,1.2,0,0,0.35 --out " + out.string(),
+                    log),
+            3)
+      << read_all(log);
+  EXPECT_NE(read_all(log).find("no scan of 3 localized"), std::string::npos) << read_all(log);
+  EXPECT_TRUE(load_tum_trajectory((out / "trajectory.tum").string()).poses.empty());
+  const std::vector<std::vector<std::string>> table = read_csv(out / "status.csv");
+  ASSERT_EQ(table.size(), 4u);
+  for (std::size_t r = 1; r < table.size(); ++r) EXPECT_NE(table[r][1], "converged");
+  // --all-poses: every scan's pose (the guesses kept), still exit 3.
+  EXPECT_EQ(run_cli("localize3d --map " + (f.dir / "room.csv").string() +
+                        " --crop -0.2,-0.2,-0.2,1.5,1.5,3.6 --scans " + (f.dir / "scans").string() +
+                        " --init 3.1,4.1,1.2,0,0,0.35 --all-poses --out " + out.string(),
+                    log),
+            3);
+  EXPECT_EQ(load_tum_trajectory((out / "trajectory.tum").string()).poses.size(), 3u);
 }
 
 TEST(Cli3d, ASparseMapFileGivesTheDenseMapsPose) {
@@ -232,8 +321,41 @@ TEST(Cli3d, FourDofHoldsRollAndPitchAtTheGuess) {
   EXPECT_NEAR(rpy.y(), -0.03, 1e-9);
   EXPECT_LT((r.pose.topRightCorner<3, 1>() - f.truth[0].translation()).norm(), 0.03);
   EXPECT_NEAR(rpy.z(), rpy_of(f.truth[0].linear()).z(), 0.005);
-  EXPECT_EQ(r.covariance.row(3).norm() + r.covariance.row(4).norm(), 0.0);
+  // No IMU, no --attitude-sigma: roll and pitch are not estimated, their rows and columns NaN;
+  // the free components have the solve's variances.
+  for (int i = 0; i < 6; ++i) {
+    for (int j = 0; j < 6; ++j) {
+      const bool held = i == 3 || i == 4 || j == 3 || j == 4;
+      EXPECT_EQ(std::isnan(r.covariance(i, j)), held) << i << "," << j;
+    }
+  }
   EXPECT_GT(r.covariance(5, 5), 0.0);
+  // --attitude-sigma 0.01: the held attitude's variance, and what its error does to x, y, z, yaw
+  // (the free block grows, by S 1e-4 S^T: positive semi-definite).
+  ASSERT_EQ(
+      run_cli("localize3d --dof 4 --map " + (f.dir / "room.csv").string() + " --scan " +
+                  (f.dir / "scans" / "100.0.pcd").string() +
+                  " --init 3.2,3.9,1.2,0.02,-0.03,0.38 --attitude-sigma 0.01 --out " + out.string(),
+              log),
+      0)
+      << read_all(log);
+  const YamlResult g = read_yaml(out);
+  EXPECT_TRUE(g.covariance.allFinite()) << g.covariance;
+  EXPECT_NEAR(g.covariance(3, 3), 1e-4, 1e-12);
+  EXPECT_NEAR(g.covariance(4, 4), 1e-4, 1e-12);
+  const int free[4] = {0, 1, 2, 5};
+  Eigen::Matrix4d grown;
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j)
+      grown(i, j) = g.covariance(free[i], free[j]) - r.covariance(free[i], free[j]);
+  EXPECT_GT(grown.trace(), 0.0);
+  EXPECT_GT(Eigen::SelfAdjointEigenSolver<Eigen::Matrix4d>(grown).eigenvalues().minCoeff(),
+            -1e-9 * grown.trace());
+  // --attitude-sigma is for --dof 4 only: a usage error.
+  EXPECT_EQ(run_cli("localize3d --map " + (f.dir / "room.csv").string() + " --scan " +
+                        (f.dir / "scans" / "100.0.pcd").string() + " --attitude-sigma 0.01",
+                    log),
+            2);
 }
 
 TEST(Cli3d, BadInputsSayWhatIsWrongAndWriteNothing) {
@@ -243,24 +365,30 @@ TEST(Cli3d, BadInputsSayWhatIsWrongAndWriteNothing) {
   const fs::path out = f.dir / "bad.yaml", log = f.dir / "bad.log";
   const std::string bad_csv = (f.dir / "bad.csv").string();
   std::ofstream(bad_csv) << "x,y,z\n1,2,3\n4,five,6\n";
+  std::ofstream(f.dir / "room.las") << "not a cloud\n";
+  // Exit 2 for usage, 1 for input.
   const struct {
     std::string args, message;
+    int exit;
   } cases[] = {
-      {"--map " + map + " --scan " + scan + " --dof 5", "--dof must be 6 or 4"},
-      {"--scan " + scan, "--map is required"},
-      {"--map " + map, "give --scan FILE (one or more) or --scans DIR"},
+      {"--map " + map + " --scan " + scan + " --dof 5", "--dof must be 6 or 4", 2},
+      {"--scan " + scan, "--map is required", 2},
+      {"--map " + map, "give --scan FILE (one or more) or --scans DIR", 2},
       {"--map " + map + " --scan " + scan + " --init 1,2,3",
-       "--init: expected x,y,z,roll,pitch,yaw"},
+       "--init: expected x,y,z,roll,pitch,yaw", 2},
       {"--map " + map + " --scan " + scan + " --init 0,0,0,0,0,0 --init-matrix m.txt",
-       "give --init or --init-matrix, not both"},
-      {"--map " + map + " --scan " + (f.dir / "missing.pcd").string(), "missing.pcd: cannot open"},
-      {"--map " + bad_csv + " --scan " + scan, bad_csv + ":3: expected the numbers x y z"},
-      {"--map " + (f.dir / "room.las").string() + " --scan " + scan, "unknown point cloud format"},
-      {"--map " + map + " --scan " + scan + " --crop 0,0,0,1,1", "--crop: expected xmin,ymin"},
+       "give --init or --init-matrix, not both", 2},
+      {"--map " + map + " --scan " + (f.dir / "missing.pcd").string(),
+       "--scan: File does not exist: " + (f.dir / "missing.pcd").string(), 1},
+      {"--map " + bad_csv + " --scan " + scan, bad_csv + ":3: expected the numbers x y z", 1},
+      {"--map " + (f.dir / "room.las").string() + " --scan " + scan, "unknown point cloud format",
+       1},
+      {"--map " + map + " --scan " + scan + " --crop 0,0,0,1,1", "--crop: expected xmin,ymin", 2},
+      {"--map " + map + " --scan " + scan + " --bogus", "--bogus", 2},
   };
   for (const auto& c : cases) {
     fs::remove(out);
-    EXPECT_NE(run_cli("localize3d " + c.args + " --out " + out.string(), log), 0) << c.args;
+    EXPECT_EQ(run_cli("localize3d " + c.args + " --out " + out.string(), log), c.exit) << c.args;
     const std::string text = read_all(log);
     EXPECT_NE(text.find(c.message), std::string::npos) << c.args << "\n" << text;
     EXPECT_FALSE(fs::exists(out)) << c.args;

@@ -39,6 +39,7 @@ struct Fixture {
 };
 
 using test::contains;
+using test::files_in;
 using test::read_all;
 using test::run_cli;
 
@@ -133,13 +134,13 @@ TEST(CliEndToEnd, MapLocalizeEvalRecoverTheSimulatedTrajectory) {
     EXPECT_TRUE(std::filesystem::exists(d / (std::string("map") + ext))) << ext;
   }
   ASSERT_EQ(run_cli("localize --map " + (d / "map.yaml").string() + " --log " +
-                        (d / "run.log").string() + " --method vdt-opt --out " +
+                        (d / "run.log").string() + " --method vdt-opt --all-poses --out " +
                         (d / "est.tum").string() + " --cov " + (d / "est_cov.csv").string(),
                     d / "localize.txt"),
             0)
       << read_all(d / "localize.txt");
 
-  // One TUM line per scan, stamped in the log's time base, close to the truth.
+  // --all-poses: one TUM line per scan, stamped in the log's time base, close to the truth.
   const TumTrajectory est = load_tum_trajectory((d / "est.tum").string());
   ASSERT_EQ(est.poses.size(), f.run.size());
   double sq = 0.0, dead_reckoning_sq = 0.0;
@@ -160,7 +161,8 @@ TEST(CliEndToEnd, MapLocalizeEvalRecoverTheSimulatedTrajectory) {
   // track, the ones before are not written, and the track matches the truth as well.
   ASSERT_EQ(
       run_cli("localize --map " + (d / "map.yaml").string() + " --log " + (d / "run.log").string() +
-                  " --method vdt-opt --init global --out " + (d / "global.tum").string(),
+                  " --method vdt-opt --init global --all-poses --out " +
+                  (d / "global.tum").string(),
               d / "global.txt"),
       0)
       << read_all(d / "global.txt");
@@ -178,19 +180,34 @@ TEST(CliEndToEnd, MapLocalizeEvalRecoverTheSimulatedTrajectory) {
   }
   EXPECT_LT(std::sqrt(global_sq / static_cast<double>(global.poses.size())), 0.05);
 
-  // The covariance CSV: the header of the issue, one row per scan, positive definite.
+  // The pose table: the header of the issue, one row per scan whatever its status, the status and
+  // explained fraction, a positive definite covariance where converged.
   std::ifstream cov(d / "est_cov.csv");
   std::string line;
   std::getline(cov, line);
-  EXPECT_EQ(line, "t,xx,xy,xt,yy,yt,tt");
+  EXPECT_EQ(line, "t,status,explained,xx,xy,xt,yy,yt,tt");
   std::size_t rows = 0, with_covariance = 0;
+  std::vector<double> converged_times;
   while (std::getline(cov, line)) {
-    std::vector<double> v;
+    std::vector<std::string> tok;
     std::stringstream s(line);
-    for (std::string tok; std::getline(s, tok, ',');) v.push_back(std::stod(tok));
-    ASSERT_EQ(v.size(), 7u) << line;
+    for (std::string t; std::getline(s, t, ',');) tok.push_back(t);
+    ASSERT_EQ(tok.size(), 9u) << line;
+    EXPECT_NEAR(std::stod(tok[0]), est.poses[rows].t, 1e-6) << line;
+    const std::string& status = tok[1];
+    EXPECT_TRUE(status == "converged" || status == "not_converged" || status == "refused" ||
+                status == "too_few_observations" || status == "diverged" || status == "lost")
+        << line;
+    const double explained = std::stod(tok[2]);
+    if (status == "converged") {
+      converged_times.push_back(std::stod(tok[0]));
+      EXPECT_GE(explained, 0.5) << line;  // a right pose on the map of the same run
+      EXPECT_LE(explained, 1.0) << line;
+    }
     Eigen::Matrix3d c;
-    c << v[1], v[2], v[3], v[2], v[4], v[5], v[3], v[5], v[6];
+    c << std::stod(tok[3]), std::stod(tok[4]), std::stod(tok[5]), std::stod(tok[4]),
+        std::stod(tok[6]), std::stod(tok[7]), std::stod(tok[5]), std::stod(tok[7]),
+        std::stod(tok[8]);
     if (c.allFinite()) {
       ++with_covariance;
       EXPECT_GT(Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(c).eigenvalues().minCoeff(), 0.0)
@@ -200,6 +217,32 @@ TEST(CliEndToEnd, MapLocalizeEvalRecoverTheSimulatedTrajectory) {
   }
   EXPECT_EQ(rows, f.run.size());
   EXPECT_GT(with_covariance, f.run.size() * 9 / 10);
+  EXPECT_GT(converged_times.size(), f.run.size() / 2);
+
+  // Without --all-poses the TUM file holds exactly the converged scans' poses, the same ones.
+  ASSERT_EQ(
+      run_cli("localize --map " + (d / "map.yaml").string() + " --log " + (d / "run.log").string() +
+                  " --method vdt-opt --quiet --out " + (d / "usable.tum").string(),
+              d / "usable.txt"),
+      0)
+      << read_all(d / "usable.txt");
+  const TumTrajectory usable = load_tum_trajectory((d / "usable.tum").string());
+  ASSERT_EQ(usable.poses.size(), converged_times.size());
+  for (std::size_t k = 0, j = 0; k < usable.poses.size(); ++k) {
+    EXPECT_NEAR(usable.poses[k].t, converged_times[k], 1e-6);
+    while (j < est.poses.size() && est.poses[j].t < usable.poses[k].t - 1e-9) ++j;
+    ASSERT_LT(j, est.poses.size());
+    EXPECT_TRUE(usable.poses[k].pose.isApprox(est.poses[j].pose, 1e-12)) << k;
+  }
+  // --accept-status adds statuses; an unknown one is a usage error (exit 2) that writes nothing.
+  EXPECT_EQ(
+      run_cli("localize --map " + (d / "map.yaml").string() + " --log " + (d / "run.log").string() +
+                  " --quiet --accept-status converged,lots --out " + (d / "never.tum").string(),
+              d / "never.txt"),
+      2);
+  EXPECT_TRUE(contains(read_all(d / "never.txt"), "--accept-status: unknown status 'lots'"))
+      << read_all(d / "never.txt");
+  EXPECT_FALSE(std::filesystem::exists(d / "never.tum"));
 
   // `vdtnav eval` against the reference and the relations: its unaligned ATE is the test's own.
   ASSERT_EQ(run_cli("eval --traj " + (d / "est.tum").string() + " --reference " +
@@ -249,7 +292,9 @@ TEST(CliEndToEnd, AStartFarFromTheTruthIsFoundLostAndRecovered) {
   const std::string common = "localize --map " + (d / "map.yaml").string() + " --log " +
                              (f.dir / "run.log").string() + " --method vdt-opt --quiet --init " +
                              init + " --init-sigma 0.05,0.05,0.02";
-  ASSERT_EQ(run_cli(common + " --recover --out " + (d / "rec.tum").string(), d / "rec.txt"), 0)
+  ASSERT_EQ(
+      run_cli(common + " --recover --all-poses --out " + (d / "rec.tum").string(), d / "rec.txt"),
+      0)
       << read_all(d / "rec.txt");
   const std::string rec_text = read_all(d / "rec.txt");
   EXPECT_TRUE(contains(rec_text, "re-acquired              1")) << rec_text;
@@ -266,18 +311,28 @@ TEST(CliEndToEnd, AStartFarFromTheTruthIsFoundLostAndRecovered) {
   }
   EXPECT_LE(first_right, 20U);  // a window of 5 scans, then one acquisition
 
+  // Never re-acquired, never converged: the run completes with exit 3.
   ASSERT_EQ(run_cli(common + " --no-recover --out " + (d / "norec.tum").string() + " --cov " +
                         (d / "norec.csv").string(),
                     d / "norec.txt"),
-            0)
+            3)
       << read_all(d / "norec.txt");
   const std::string norec_text = read_all(d / "norec.txt");
   EXPECT_TRUE(contains(norec_text, "  lost  ")) << norec_text;
   EXPECT_FALSE(contains(norec_text, "re-acquired")) << norec_text;
-  // --recover and --no-recover together: refused.
-  EXPECT_NE(
+  // --strict: the scans lost before the re-acquisition make it exit 3, the outputs written (the
+  // same trajectory as without --strict).
+  EXPECT_EQ(run_cli(common + " --recover --all-poses --strict --out " + (d / "strict.tum").string(),
+                    d / "strict.txt"),
+            3)
+      << read_all(d / "strict.txt");
+  EXPECT_EQ(read_all(d / "strict.tum"), read_all(d / "rec.tum"));
+  EXPECT_TRUE(contains(read_all(d / "strict.txt"), "--strict: ")) << read_all(d / "strict.txt");
+  EXPECT_TRUE(std::filesystem::exists(d / "strict.tum"));
+  // --recover and --no-recover together: a usage error.
+  EXPECT_EQ(
       run_cli(common + " --recover --no-recover --out " + (d / "x.tum").string(), d / "both.txt"),
-      0);
+      2);
 }
 
 TEST(CliEndToEnd, BadInputsFailWithAMessageNamingTheFile) {
@@ -287,10 +342,11 @@ TEST(CliEndToEnd, BadInputsFailWithAMessageNamingTheFile) {
     std::ofstream bad(d / "bad.log");
     bad << "FLASER 3 1.0 2.0\n";  // too few fields
   }
-  EXPECT_NE(run_cli("localize --map " + (d / "missing.yaml").string() + " --log " +
+  // A missing file is bad input (1), as CLI11's own check reported it with its own code before.
+  EXPECT_EQ(run_cli("localize --map " + (d / "missing.yaml").string() + " --log " +
                         (d / "bad.log").string() + " --out " + (d / "x.tum").string(),
                     d / "bad1.txt"),
-            0);
+            1);
   EXPECT_TRUE(contains(read_all(d / "bad1.txt"),
                        "--map: File does not exist: " + (d / "missing.yaml").string()))
       << read_all(d / "bad1.txt");
@@ -298,17 +354,17 @@ TEST(CliEndToEnd, BadInputsFailWithAMessageNamingTheFile) {
                         (d / "coarse").string() + " --quiet",
                     d / "coarse.txt"),
             0);
-  EXPECT_NE(
+  EXPECT_EQ(
       run_cli("localize --map " + (d / "coarse.yaml").string() + " --log " +
                   (d / "bad.log").string() + " --method vdt-opt --out " + (d / "x.tum").string(),
               d / "bad2.txt"),
-      0);
+      1);
   EXPECT_TRUE(contains(read_all(d / "bad2.txt"), "bad.log:1: FLASER: expected"))
       << read_all(d / "bad2.txt");
-  EXPECT_NE(run_cli("localize --map " + (d / "coarse.yaml").string() + " --log " +
+  EXPECT_EQ(run_cli("localize --map " + (d / "coarse.yaml").string() + " --log " +
                         (d / "run.log").string() + " --method nope --out " + (d / "x.tum").string(),
                     d / "bad3.txt"),
-            0);
+            2);
   EXPECT_TRUE(contains(read_all(d / "bad3.txt"), "--method: nope not in"))
       << read_all(d / "bad3.txt");
 }
@@ -327,7 +383,7 @@ TEST(CliEndToEnd, BadOptionsAreRefusedAndNothingIsWritten) {
                                " --out " + (d / "x.tum").string() + " ";
 
   // A negative standard deviation (through the pose parser it was accepted).
-  EXPECT_NE(run_cli(localize + "--init-sigma 0.1,-0.1,0.05", d / "sigma.txt"), 0);
+  EXPECT_EQ(run_cli(localize + "--init-sigma 0.1,-0.1,0.05", d / "sigma.txt"), 2);
   EXPECT_TRUE(contains(read_all(d / "sigma.txt"),
                        "--init-sigma: expected three standard deviations sx,sy,syaw, finite and "
                        ">= 0 (metres, metres, radians), got '0.1,-0.1,0.05'"))
@@ -335,16 +391,16 @@ TEST(CliEndToEnd, BadOptionsAreRefusedAndNothingIsWritten) {
   EXPECT_FALSE(std::filesystem::exists(d / "x.tum"));
 
   // An unknown time base.
-  EXPECT_NE(run_cli(localize + "--time-base gps", d / "time_base.txt"), 0);
+  EXPECT_EQ(run_cli(localize + "--time-base gps", d / "time_base.txt"), 2);
   EXPECT_TRUE(contains(read_all(d / "time_base.txt"), "--time-base: gps not in {logger,ipc}"))
       << read_all(d / "time_base.txt");
 
   // A negative or non-finite margin.
   for (const char* margin : {"-1", "inf"}) {
-    EXPECT_NE(run_cli("map --log " + log + " --resolution 0.1 --margin " + margin + " --out " +
+    EXPECT_EQ(run_cli("map --log " + log + " --resolution 0.1 --margin " + margin + " --out " +
                           (d / "m").string() + " --quiet",
                       d / "margin.txt"),
-              0)
+              2)
         << margin;
     EXPECT_TRUE(
         contains(read_all(d / "margin.txt"),
@@ -355,10 +411,10 @@ TEST(CliEndToEnd, BadOptionsAreRefusedAndNothingIsWritten) {
 
   // A map with no occupied cell: refused before the YAML, PGM or VDT is written.
   write_no_return_log(d / "no_return.log", f.run.truth[0], 5);
-  EXPECT_NE(run_cli("map --log " + (d / "no_return.log").string() + " --resolution 0.1 --out " +
+  EXPECT_EQ(run_cli("map --log " + (d / "no_return.log").string() + " --resolution 0.1 --out " +
                         (d / "empty").string() + " --quiet",
                     d / "empty.txt"),
-            0);
+            1);
   EXPECT_TRUE(contains(
       read_all(d / "empty.txt"),
       (d / "no_return.log").string() + ": the map of 5 scans has no occupied cell (0 returns, " +
@@ -390,12 +446,12 @@ TEST(CliEndToEnd, IpcTimeBaseAndStrictOnAnUnexplainedLog) {
                                (d / "ipc.log").string() + " --quiet --from " + from + " ";
 
   // The window and the trajectory in the ipc time base (and no --method: vdt-opt by default).
-  ASSERT_EQ(
-      run_cli(localize + "--time-base ipc --init " + std::to_string(f.run.truth[first][0]) + "," +
-                  std::to_string(f.run.truth[first][1]) + "," +
-                  std::to_string(f.run.truth[first][2]) + " --out " + (d / "ipc.tum").string(),
-              d / "ipc.txt"),
-      0)
+  ASSERT_EQ(run_cli(localize + "--time-base ipc --init " + std::to_string(f.run.truth[first][0]) +
+                        "," + std::to_string(f.run.truth[first][1]) + "," +
+                        std::to_string(f.run.truth[first][2]) + " --all-poses --out " +
+                        (d / "ipc.tum").string(),
+                    d / "ipc.txt"),
+            0)
       << read_all(d / "ipc.txt");
   const TumTrajectory est = load_tum_trajectory((d / "ipc.tum").string());
   ASSERT_EQ(est.poses.size(), log.lasers.size() - first);
@@ -405,23 +461,80 @@ TEST(CliEndToEnd, IpcTimeBaseAndStrictOnAnUnexplainedLog) {
   EXPECT_TRUE(contains(read_all(d / "ipc.tum"), "# vdtnav localize --method vdt-opt"));
   EXPECT_FALSE(contains(read_all(d / "ipc.txt"), "warning"));
   // The same window in the logger time base holds no scan.
-  EXPECT_NE(run_cli(localize + "--out " + (d / "logger.tum").string(), d / "logger.txt"), 0);
+  EXPECT_EQ(run_cli(localize + "--out " + (d / "logger.tum").string(), d / "logger.txt"), 2);
   EXPECT_TRUE(contains(read_all(d / "logger.txt"), "no laser message in the time window"))
       << read_all(d / "logger.txt");
 
-  // Scans the map never explains: a warning with the count, and with --strict a failure.
+  // Scans the map never explains: the run completes (exit 3), its TUM file holds no pose and its
+  // pose table one row per scan, none converged.
   write_no_return_log(d / "no_return.log", f.run.truth[0], 20);
   const std::string unexplained = "localize --map " + (d / "map.yaml").string() + " --log " +
                                   (d / "no_return.log").string() + " --quiet --out " +
-                                  (d / "dr.tum").string();
-  EXPECT_EQ(run_cli(unexplained, d / "dr.txt"), 0) << read_all(d / "dr.txt");
-  EXPECT_TRUE(contains(read_all(d / "dr.txt"),
-                       "vdtnav localize: warning: only 0 of 20 scans (0.0 %) localized"))
+                                  (d / "dr.tum").string() + " --cov " + (d / "dr.csv").string();
+  EXPECT_EQ(run_cli(unexplained, d / "dr.txt"), 3) << read_all(d / "dr.txt");
+  EXPECT_TRUE(contains(read_all(d / "dr.txt"), "vdtnav: only 0 of 20 scans (0.0 %) localized"))
       << read_all(d / "dr.txt");
-  EXPECT_NE(run_cli(unexplained + " --strict", d / "strict.txt"), 0);
-  EXPECT_TRUE(contains(read_all(d / "strict.txt"), "vdtnav: error: only 0 of 20 scans"))
-      << read_all(d / "strict.txt");
-  EXPECT_TRUE(contains(read_all(d / "strict.txt"), "(--strict)")) << read_all(d / "strict.txt");
+  EXPECT_TRUE(load_tum_trajectory((d / "dr.tum").string()).poses.empty());
+  std::ifstream table(d / "dr.csv");
+  std::string row;
+  std::getline(table, row);
+  std::size_t rows = 0;
+  while (std::getline(table, row)) {
+    EXPECT_EQ(row.find(",converged,"), std::string::npos) << row;
+    ++rows;
+  }
+  EXPECT_EQ(rows, 20u);
+  // --all-poses writes them (dead reckoning, the table says so), and it is still exit 3.
+  EXPECT_EQ(run_cli(unexplained + " --all-poses", d / "dr_all.txt"), 3);
+  EXPECT_EQ(load_tum_trajectory((d / "dr.tum").string()).poses.size(), 20u);
+}
+
+TEST(CliEndToEnd, AFailedRunLeavesNothingOnDisk) {
+  const Fixture& f = fixture();
+  const std::filesystem::path d = f.dir / "atomic";
+  std::filesystem::remove_all(d);
+  std::filesystem::create_directories(d / "maps");
+  ASSERT_EQ(run_cli("map --log " + (f.dir / "run.log").string() + " --resolution 0.1 --out " +
+                        (d / "maps" / "map").string() + " --quiet",
+                    d / "maps" / "map.txt"),
+            0);
+  // A log whose 30th line is broken: the run fails (exit 1) after the map is built and nothing is
+  // left in the output folder, not even a temporary.
+  {
+    std::ifstream in(f.dir / "run.log");
+    std::ofstream out(d / "broken.log");
+    std::string line;
+    for (int n = 1; std::getline(in, line); ++n) out << (n == 30 ? "FLASER 3 1.0" : line) << "\n";
+  }
+  std::filesystem::create_directories(d / "out");
+  EXPECT_EQ(run_cli("localize --map " + (d / "maps" / "map.yaml").string() + " --log " +
+                        (d / "broken.log").string() + " --quiet --out " +
+                        (d / "out" / "x.tum").string() + " --cov " +
+                        (d / "out" / "x.csv").string() + " --plot " + (d / "out" / "x").string(),
+                    d / "broken.txt"),
+            1)
+      << read_all(d / "broken.txt");
+  EXPECT_TRUE(contains(read_all(d / "broken.txt"), "broken.log:30: "))
+      << read_all(d / "broken.txt");
+  EXPECT_TRUE(files_in(d / "out").empty());
+  // An output folder that does not exist: bad input (1), before any work.
+  EXPECT_EQ(run_cli("localize --map " + (d / "maps" / "map.yaml").string() + " --log " +
+                        (f.dir / "run.log").string() + " --quiet --out " +
+                        (d / "nowhere" / "x.tum").string(),
+                    d / "nowhere.txt"),
+            1);
+  EXPECT_TRUE(contains(read_all(d / "nowhere.txt"), "does not exist"))
+      << read_all(d / "nowhere.txt");
+  // A run that completes writes all its outputs and no temporary.
+  ASSERT_EQ(run_cli("localize --map " + (d / "maps" / "map.yaml").string() + " --log " +
+                        (f.dir / "run.log").string() + " --quiet --out " +
+                        (d / "out" / "x.tum").string() + " --cov " +
+                        (d / "out" / "x.csv").string() + " --plot " + (d / "out" / "x").string(),
+                    d / "ok.txt"),
+            0)
+      << read_all(d / "ok.txt");
+  EXPECT_EQ(files_in(d / "out"),
+            (std::vector<std::string>{"x.csv", "x.tum", "x_scans.png", "x_trajectory.png"}));
 }
 
 }  // namespace
@@ -458,16 +571,16 @@ TEST(CliEndToEnd, SettingsFileIsPrintedReadBackAndChecked) {
   EXPECT_TRUE(contains(read_all(d / "mine.txt"), "window_xy: 0.5 "));
   // A typo is an error naming the file, the line and the key, before any map is built.
   { std::ofstream(d / "typo.yaml") << "vdt-opt:\n  search:\n    windw_xy: 0.5\n"; }
-  EXPECT_NE(run_cli("localize --map " + (d / "printed.yaml").string() + " --log " +
+  EXPECT_EQ(run_cli("localize --map " + (d / "printed.yaml").string() + " --log " +
                         (f.dir / "run.log").string() + " --out " + (d / "x.tum").string() +
                         " --config " + (d / "typo.yaml").string(),
                     d / "typo.txt"),
-            0);
+            1);
   EXPECT_TRUE(
       contains(read_all(d / "typo.txt"), "typo.yaml:3: vdt-opt.search.windw_xy: unknown key"))
       << read_all(d / "typo.txt");
   // Without --print-config the map, log and output are required.
-  EXPECT_NE(run_cli("localize --method vdt-ekf", d / "required.txt"), 0);
+  EXPECT_EQ(run_cli("localize --method vdt-ekf", d / "required.txt"), 2);
   EXPECT_TRUE(contains(read_all(d / "required.txt"), "localize: --map is required"))
       << read_all(d / "required.txt");
 }

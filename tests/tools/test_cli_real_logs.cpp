@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <string>
 #include <vector>
 
@@ -46,16 +47,18 @@ double json_number(const std::string& js, const std::string& section, const std:
   return std::stod(js.substr(p + key.size() + 3));
 }
 
-/// Localizes LOG on MAP with and without recovery (method, other flags in `args`): both runs
-/// complete, no scan is reported lost, and the two trajectories are the same file.
+/// Localizes LOG on MAP with and without recovery (method, other flags in `args`), every pose
+/// written (--all-poses): both runs complete, no scan is reported lost, and the two trajectories
+/// are the same file.
 void expect_recovery_changes_nothing(const fs::path& d, const std::string& args,
                                      const std::string& tag) {
   const fs::path on = d / (tag + "_recover.tum"), off = d / (tag + "_norecover.tum");
-  ASSERT_EQ(run_cli(args + " --quiet --out " + on.string(), d / (tag + "_recover.txt")), 0)
+  ASSERT_EQ(run_cli(args + " --quiet --all-poses --out " + on.string(), d / (tag + "_recover.txt")),
+            0)
       << read_all(d / (tag + "_recover.txt"));
-  ASSERT_EQ(
-      run_cli(args + " --quiet --no-recover --out " + off.string(), d / (tag + "_norecover.txt")),
-      0)
+  ASSERT_EQ(run_cli(args + " --quiet --all-poses --no-recover --out " + off.string(),
+                    d / (tag + "_norecover.txt")),
+            0)
       << read_all(d / (tag + "_norecover.txt"));
   for (const char* run : {"_recover.txt", "_norecover.txt"}) {
     const std::string text = read_all(d / (tag + run));
@@ -94,7 +97,7 @@ TEST(CliRealLogs, IntelStudyNothingLostAndRecoveryChangesNothing) {
   for (const char* method : {"vdt-opt", "vdt-ekf"}) {
     expect_recovery_changes_nothing(d, common + " --method " + method, method);
   }
-  // The relations' figures of vdt-opt (the README's and the study's).
+  // The relations' figures of vdt-opt on every pose (the README's and the study's: 58 relations).
   ASSERT_EQ(run_cli("eval --traj " + (d / "vdt-opt_recover.tum").string() + " --relations " +
                         (data / "intel.relations").string() + " --max-gap 0 --json",
                     d / "eval.txt"),
@@ -103,6 +106,28 @@ TEST(CliRealLogs, IntelStudyNothingLostAndRecoveryChangesNothing) {
   EXPECT_EQ(json_number(js, "\"relations\"", "used"), 58.0) << js;
   EXPECT_LE(json_number(js, "\"relations\"", "trans_mean_m"), 0.035) << js;
   EXPECT_LE(json_number(js, "\"relations\"", "rot_mean_deg"), 0.5) << js;
+  // Without --all-poses the trajectory holds the converged scans only, as the pose table counts
+  // them; the relations between them are as accurate.
+  ASSERT_EQ(run_cli(common + " --method vdt-opt --quiet --out " + (d / "usable.tum").string() +
+                        " --cov " + (d / "usable.csv").string(),
+                    d / "usable.txt"),
+            0)
+      << read_all(d / "usable.txt");
+  std::size_t converged = 0;
+  {
+    std::ifstream table(d / "usable.csv");
+    for (std::string row; std::getline(table, row);) converged += contains(row, ",converged,");
+  }
+  EXPECT_EQ(load_tum_trajectory((d / "usable.tum").string()).poses.size(), converged);
+  EXPECT_GT(converged, 400U);  // of 607
+  ASSERT_EQ(run_cli("eval --traj " + (d / "usable.tum").string() + " --relations " +
+                        (data / "intel.relations").string() + " --max-gap 0 --json",
+                    d / "eval_usable.txt"),
+            0);
+  const std::string ju = read_all(d / "eval_usable.txt");
+  EXPECT_GE(json_number(ju, "\"relations\"", "used"), 30.0) << ju;
+  EXPECT_LE(json_number(ju, "\"relations\"", "trans_mean_m"), 0.035) << ju;
+  EXPECT_LE(json_number(ju, "\"relations\"", "rot_mean_deg"), 0.6) << ju;
 }
 
 TEST(CliRealLogs, MitKillianOddScansMapEvenScansLocalizeNothingLost) {

@@ -11,7 +11,9 @@
 #include <sstream>
 
 #include "common.hpp"
+#include "exit_status.hpp"
 #include "plots.hpp"
+#include "staged_output.hpp"
 #include "vdtnav/core/error.hpp"
 #include "vdtnav/eval/nees.hpp"
 #include "vdtnav/eval/relation_metric.hpp"
@@ -38,38 +40,53 @@ struct StampedCovariance {
   Eigen::Matrix3d c;
 };
 
+/// The --cov table of `vdtnav localize` (t,status,explained,xx,xy,xt,yy,yt,tt), or the
+/// covariance-only table of earlier versions (t,xx,xy,xt,yy,yt,tt).
 std::vector<StampedCovariance> load_covariances(const std::string& path) {
   std::ifstream in(path);
   if (!in) throw IoError(path + ": cannot open");
+  constexpr const char* kHeader = "t,status,explained,xx,xy,xt,yy,yt,tt";
+  constexpr const char* kOldHeader = "t,xx,xy,xt,yy,yt,tt";
   std::vector<StampedCovariance> out;
   std::string line;
   std::size_t n = 0;
+  bool with_status = true;
   while (std::getline(in, line)) {
     ++n;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
     if (n == 1) {
-      if (line.rfind("t,xx,xy,xt,yy,yt,tt", 0) != 0) {
-        throw FormatError(path, n, "expected the header t,xx,xy,xt,yy,yt,tt");
+      with_status = line == kHeader;
+      if (!with_status && line != kOldHeader) {
+        throw FormatError(path, n, std::string("expected the header ") + kHeader);
       }
       continue;
     }
     if (line.empty()) continue;
     // strtod, not operator>>: rows without a covariance hold `nan`.
-    double v[7];
-    const char* p = line.c_str();
-    int k = 0;
-    for (; k < 7; ++k) {
+    std::vector<std::string> fields;
+    std::stringstream ss(line);
+    for (std::string f; std::getline(ss, f, ',');) fields.push_back(f);
+    const std::size_t expected = with_status ? 9 : 7;
+    std::vector<double> v;
+    for (std::size_t k = 0; k < fields.size(); ++k) {
+      if (with_status && k == 1) continue;  // the status
       char* end = nullptr;
-      v[k] = std::strtod(p, &end);
-      if (end == p || (k < 6 && *end != ',') || (k == 6 && *end != '\0' && *end != '\r')) break;
-      p = end + 1;
+      const double x = std::strtod(fields[k].c_str(), &end);
+      if (end == fields[k].c_str() || *end != '\0') break;
+      v.push_back(x);
     }
-    if (k < 7 || !std::isfinite(v[0])) {
-      throw FormatError(path, n, "expected 7 numbers t,xx,xy,xt,yy,yt,tt (nan allowed but for t)");
+    if (fields.size() != expected || v.size() != expected - (with_status ? 1 : 0) ||
+        !std::isfinite(v[0])) {
+      throw FormatError(path, n,
+                        std::string("expected ") + (with_status ? kHeader : kOldHeader) +
+                            " (numbers, nan allowed but for t)");
     }
-    const double t = v[0], xx = v[1], xy = v[2], xt = v[3], yy = v[4], yt = v[5], tt = v[6];
+    const std::size_t c0 = with_status ? 2 : 1;  // xx's index in v (explained skipped)
+    const double xx = v[c0], xy = v[c0 + 1], xt = v[c0 + 2], yy = v[c0 + 3], yt = v[c0 + 4],
+                 tt = v[c0 + 5];
     Eigen::Matrix3d c;
     c << xx, xy, xt, xy, yy, yt, xt, yt, tt;
-    out.push_back({t, c});
+    out.push_back({v[0], c});
   }
   return out;
 }
@@ -118,8 +135,10 @@ void print_stats(const char* name, const eval::ErrorStatistics& s, double scale,
 
 void run_eval(const EvalArgs& a) {
   if (a.relations.empty() && a.reference.empty()) {
-    throw ConfigError("vdtnav eval: give --relations REL, --reference REF.tum, or both");
+    throw UsageError("vdtnav eval: give --relations REL, --reference REF.tum, or both");
   }
+  StagedOutputs staged;  // --json-out and --plot appear when the evaluation completes
+  bool plotted = false;
   const eval::Trajectory2 est = load_trajectory2(a.traj);
   std::vector<StampedCovariance> covs;
   if (!a.cov.empty()) covs = load_covariances(a.cov);
@@ -260,18 +279,21 @@ void run_eval(const EvalArgs& a) {
       js << b;
     }
     if (!a.plot.empty() && !err_plot.empty()) {
-      plot_errors(a.plot + "_errors.png", t_plot, err_plot, sig_plot,
+      plot_errors(staged.file(a.plot + "_errors.png"), t_plot, err_plot, sig_plot,
                   "error against " + a.reference + " (unaligned)");
-      std::printf("wrote %s_errors.png\n", a.plot.c_str());
+      plotted = true;
     }
   }
   js << "\n}\n";
   if (a.json) std::printf("%s", js.str().c_str());
   if (!a.json_path.empty()) {
-    std::ofstream f(a.json_path);
+    std::ofstream f(staged.file(a.json_path));
     if (!f) throw IoError(a.json_path + ": cannot open for writing");
     f << js.str();
+    if (!f.flush()) throw IoError(a.json_path + ": write failed");
   }
+  staged.commit();
+  if (plotted) std::printf("wrote %s_errors.png\n", a.plot.c_str());
 }
 
 }  // namespace
@@ -282,16 +304,17 @@ void add_eval_command(CLI::App& app) {
       "eval", "Evaluate a trajectory against benchmark relations and/or a reference trajectory");
   cmd->add_option("--traj", args->traj, "Estimated trajectory (TUM)")
       ->required()
-      ->check(CLI::ExistingFile);
+      ->check(input_file("--traj"));
   cmd->add_option("--relations", args->relations, "Kuemmerle relations file (t1 t2 x y z r p y)")
-      ->check(CLI::ExistingFile);
+      ->check(input_file("--relations"));
   cmd->add_option("--reference", args->reference, "Reference trajectory (TUM)")
-      ->check(CLI::ExistingFile);
+      ->check(input_file("--reference"));
   cmd->add_option("--cov", args->cov,
-                  "Covariances (CSV t,xx,xy,xt,yy,yt,tt, as `localize --cov` writes): NEES "
+                  "Covariances (the CSV `localize --cov` writes: "
+                  "t,status,explained,xx,xy,xt,yy,yt,tt): NEES "
                   "against --reference; relation NEES (mean, median, fraction <= 7.81) with "
                   "--relations")
-      ->check(CLI::ExistingFile);
+      ->check(input_file("--cov"));
   cmd->add_option("--max-gap", args->max_gap,
                   "Interpolate the estimate at relation ends only inside gaps up to S seconds "
                   "(0: exact stamps only)")

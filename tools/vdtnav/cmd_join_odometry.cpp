@@ -10,6 +10,7 @@
 #include <cstdio>
 
 #include "common.hpp"
+#include "staged_output.hpp"
 #include "vdtnav/core/error.hpp"
 #include "vdtnav/io/odometry_table.hpp"
 #include "vdtnav/io/tum_trajectory.hpp"
@@ -34,9 +35,11 @@ void run_join(const JoinArgs& a) {
   const CarmenLog& raw = j.raw;
   const CarmenLog& corrected = j.corrected;
   const std::size_t unmatched = j.unmatched_scans;
-  save_carmen_log(a.out_raw, raw);
-  save_carmen_log(a.out_corrected, corrected);
-  save_tum_trajectory(a.out_reference, reference);
+  StagedOutputs staged;  // the three files, or none
+  save_carmen_log(staged.file(a.out_raw), raw);
+  save_carmen_log(staged.file(a.out_corrected), corrected);
+  save_tum_trajectory(staged.file(a.out_reference), reference);
+  staged.commit();
   std::printf("joined %zu scans (%zu scans without a table row) -> %s, %s, %s\n", raw.lasers.size(),
               unmatched, a.out_raw.c_str(), a.out_corrected.c_str(), a.out_reference.c_str());
 }
@@ -50,11 +53,11 @@ void add_join_odometry_command(CLI::App& app) {
       "Join a corrected CARMEN log with a table of raw odometry on absolute time (Intel lab data)");
   cmd->add_option("--log", args->log, "GMapping-corrected CARMEN log (ranges, corrected poses)")
       ->required()
-      ->check(CLI::ExistingFile);
+      ->check(input_file("--log"));
   cmd->add_option("--table", args->table,
                   "Rows: abs_t log_t raw_x raw_y raw_theta corrected_x corrected_y corrected_theta")
       ->required()
-      ->check(CLI::ExistingFile);
+      ->check(input_file("--table"));
   cmd->add_option("--out-raw", args->out_raw, "CARMEN log with raw odometry poses")->required();
   cmd->add_option("--out-corrected", args->out_corrected, "CARMEN log with corrected poses")
       ->required();

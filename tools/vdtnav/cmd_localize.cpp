@@ -9,11 +9,14 @@
 #include <fstream>
 #include <map>
 #include <optional>
+#include <set>
 
 #include "common.hpp"
+#include "exit_status.hpp"
 #include "parse.hpp"
 #include "plots.hpp"
 #include "progress.hpp"
+#include "staged_output.hpp"
 #include "vdtnav/core/error.hpp"
 #include "vdtnav/estimation/localizer_config.hpp"
 #include "vdtnav/estimation/localizer_factory.hpp"
@@ -42,7 +45,24 @@ struct LocalizeArgs {
   bool quiet = false;
   bool strict = false;
   bool recover = false, no_recover = false;
+  bool all_poses = false;
+  std::string accept_status = "converged";
 };
+
+/// What a scan's row of the pose table says (one per scan of the window).
+struct PoseRow {
+  double t = 0.0;
+  std::string status = "not_tried";  // --init global gave up before this scan
+  double explained = std::nan("");   // nan: not measured
+  Pose2 pose = Pose2::Zero();
+  bool has_pose = false;
+  bool written = false;  // to the TUM file
+  Eigen::Matrix3d covariance = Eigen::Matrix3d::Constant(std::nan(""));
+};
+
+/// The --cov table's header: the scan's time, status, explained fraction, then the covariance's
+/// upper triangle (x, y, theta).
+constexpr const char* kPoseTableHeader = "t,status,explained,xx,xy,xt,yy,yt,tt";
 
 void run_localize(const LocalizeArgs& a) {
   // Options first: a typo must not cost a map build. The settings: the defaults for logs on maps
@@ -58,9 +78,14 @@ void run_localize(const LocalizeArgs& a) {
   for (const auto& [flag, value] : {std::pair<const char*, const std::string*>{"--map", &a.map},
                                     {"--log", &a.log},
                                     {"--out", &a.out}}) {
-    if (value->empty()) throw ConfigError(std::string("localize: ") + flag + " is required");
+    if (value->empty()) throw UsageError(std::string("localize: ") + flag + " is required");
   }
+  // The outputs' temporary names now: a folder that does not exist fails before any work.
+  StagedOutputs staged;
+  const std::string traj_path = staged.file(a.out);
+  const std::string cov_path = a.cov.empty() ? std::string() : staged.file(a.cov);
   const Eigen::Vector3d sig = parse_sigmas(a.init_sigma, "--init-sigma");
+  const std::set<LocalizationStatus> accepted = parse_statuses(a.accept_status, "--accept-status");
   const bool init_global = a.init == "global";
   const std::optional<Pose2> init_arg = a.init.empty() || init_global
                                             ? std::nullopt
@@ -77,8 +102,8 @@ void run_localize(const LocalizeArgs& a) {
   if (!a.max_range_given) apply_no_return_code(log, "localize");
   const std::vector<std::size_t> idx = scans_in(log, a.window);
   if (idx.empty()) {
-    throw ConfigError(a.log + ": no laser message in the time window (the log has " +
-                      std::to_string(log.lasers.size()) + " scans)");
+    throw UsageError(a.log + ": no laser message in the time window (the log has " +
+                     std::to_string(log.lasers.size()) + " scans)");
   }
   LogOdometry odom = log_odometry(log, idx);
   if (a.odometry == "laser" && odom.source != LogOdometrySource::kLaserOdomFields) {
@@ -98,61 +123,56 @@ void run_localize(const LocalizeArgs& a) {
   for (std::size_t i : idx) times.push_back(log.lasers[i].time);
   const std::vector<OdometryStep> steps = odometry_steps(times, odom.poses);
 
+  // One row per scan of the window, whatever its status (the --cov table); the TUM file gets
+  // the poses of the accepted statuses.
+  std::vector<PoseRow> rows(idx.size());
+  for (std::size_t k = 0; k < idx.size(); ++k) rows[k].t = times[k];
+
   Pose2 init = init_arg ? *init_arg : log.lasers[idx.front()].pose;
   Eigen::Matrix3d init_cov =
       Eigen::Vector3d(sig[0] * sig[0], sig[1] * sig[1], sig[2] * sig[2]).asDiagonal();
   std::size_t first = 0;  // the first scan localized (--init global: the first one accepted)
+  bool started = true;
   if (init_global) {
     GlobalLocalizationOptions g = settings.global;
     g.optimizer = settings.vdt_opt;
     const GlobalLocalizer global(*map.vdt, map.occupancy, g, MapKnowledge(map.ros.cells));
     const std::size_t tries = std::min<std::size_t>(idx.size(), 50);
-    bool found = false;
-    for (; first < tries && !found; ++first) {
+    started = false;
+    for (; first < tries && !started; ++first) {
       LaserScan scan = log.lasers[idx[first]].scan;
       scan.sigma_range = a.sigma_range;
       const GlobalLocalizationResult r = global.localize(scan_points(scan));
-      std::fprintf(
-          stderr, "[localize] --init global, scan %zu: %s (%.0f %% explained%s) in %.3f s\n", first,
-          r.result.status == LocalizationStatus::kConverged ? "accepted" : "refused",
-          100.0 * r.explained, r.ambiguous ? ", ambiguous" : "", r.seconds);
-      if (r.result.status != LocalizationStatus::kConverged) continue;
-      found = true;
+      const bool accepted = r.result.status == LocalizationStatus::kConverged;
+      std::fprintf(stderr,
+                   "[localize] --init global, scan %zu: %s (%.0f %% explained%s) in %.3f s\n",
+                   first, accepted ? "accepted" : "refused", 100.0 * r.explained,
+                   r.ambiguous ? ", ambiguous" : "", r.seconds);
+      if (!accepted) {
+        rows[first].status = status_token(LocalizationStatus::kRefused);
+        rows[first].explained = r.explained;
+        continue;
+      }
+      started = true;
       init = r.result.pose;
       if (r.result.has_covariance) init_cov = r.result.covariance;
     }
-    if (!found) {
-      throw ConfigError(a.log + ": --init global: none of the first " + std::to_string(tries) +
-                        " scans could be localized on " + a.map +
-                        " without ambiguity (give --init x,y,yaw)");
-    }
     --first;
-    if (first > 0) {
-      std::fprintf(stderr, "[localize] starting at scan %zu; the %zu before it are not written\n",
+    if (started && first > 0) {
+      std::fprintf(stderr, "[localize] starting at scan %zu; the %zu before it are refused\n",
                    first, first);
     }
-  }
-  std::unique_ptr<Localizer2D> loc =
-      make_localizer(a.method, *map.vdt, map.occupancy, settings, MapKnowledge(map.ros.cells));
-  loc->reset(init, init_cov);
-
-  std::ofstream traj(a.out);
-  if (!traj) throw IoError(a.out + ": cannot open for writing");
-  traj << "# vdtnav localize --method " << a.method << ": t x y z qx qy qz qw (" << a.time_base
-       << " time base)\n";
-  std::ofstream cov;
-  if (!a.cov.empty()) {
-    cov.open(a.cov);
-    if (!cov) throw IoError(a.cov + ": cannot open for writing");
-    cov << "t,xx,xy,xt,yy,yt,tt\n";
   }
   std::map<LocalizationStatus, int> status_count;
   std::vector<Pose2> estimate;
   std::vector<LaserScan> scans;
   double ms_sum = 0.0, ms_max = 0.0;
-  std::size_t with_cov = 0;
+  std::size_t with_cov = 0, processed = 0;
+  std::unique_ptr<Localizer2D> loc;
   const auto wall0 = std::chrono::steady_clock::now();
-  {
+  if (started) {
+    loc = make_localizer(a.method, *map.vdt, map.occupancy, settings, MapKnowledge(map.ros.cells));
+    loc->reset(init, init_cov);
     ProgressBar bar("[localize] " + a.method, idx.size(), a.quiet);
     for (std::size_t k = first; k < idx.size(); ++k) {
       LaserScan scan = log.lasers[idx[k]].scan;
@@ -164,17 +184,16 @@ void run_localize(const LocalizeArgs& a) {
           std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
       ms_sum += ms;
       ms_max = std::max(ms_max, ms);
+      ++processed;
       ++status_count[r.status];
-      traj << tum_line(times[k], r.pose) << '\n';
-      if (cov.is_open()) {  // one row per scan; nan where the method reports no covariance
-        const Eigen::Matrix3d c =
-            r.has_covariance ? r.covariance : Eigen::Matrix3d::Constant(std::nan(""));
-        char line[256];
-        std::snprintf(line, sizeof line, "%.6f,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g\n", times[k], c(0, 0),
-                      c(0, 1), c(0, 2), c(1, 1), c(1, 2), c(2, 2));
-        cov << line;
-        with_cov += r.has_covariance;
-      }
+      PoseRow& row = rows[k];
+      row.status = status_token(r.status);
+      row.written = a.all_poses || accepted.count(r.status) > 0;
+      row.pose = r.pose;
+      row.has_pose = true;
+      row.explained = r.explained >= 0.0 ? r.explained : std::nan("");
+      if (r.has_covariance) row.covariance = r.covariance;
+      with_cov += r.has_covariance;
       estimate.push_back(r.pose);
       if (!a.plot.empty()) scans.push_back(std::move(scan));
       bar.update(k + 1);
@@ -182,8 +201,49 @@ void run_localize(const LocalizeArgs& a) {
   }
   const double wall =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+
+  // The outputs: written under temporary names, renamed when all are written.
+  std::size_t written = 0;
+  {
+    std::ofstream traj(traj_path);
+    if (!traj) throw IoError(a.out + ": cannot open for writing");
+    traj << "# vdtnav localize --method " << a.method << ": t x y z qx qy qz qw (" << a.time_base
+         << " time base); the poses of the scans "
+         << (a.all_poses ? "of every status" : "with status " + a.accept_status) << "\n";
+    for (const PoseRow& row : rows) {
+      if (!row.has_pose || !row.written) continue;
+      traj << tum_line(row.t, row.pose) << '\n';
+      ++written;
+    }
+    if (!traj.flush()) throw IoError(a.out + ": write failed");
+  }
+  if (!a.cov.empty()) {
+    std::ofstream cov(cov_path);
+    if (!cov) throw IoError(a.cov + ": cannot open for writing");
+    cov << kPoseTableHeader << '\n';
+    for (const PoseRow& row : rows) {
+      const Eigen::Matrix3d& c = row.covariance;
+      char line[320];
+      std::snprintf(line, sizeof line, "%.6f,%s,%.4f,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g\n", row.t,
+                    row.status.c_str(), row.explained, c(0, 0), c(0, 1), c(0, 2), c(1, 1), c(1, 2),
+                    c(2, 2));
+      cov << line;
+    }
+    if (!cov.flush()) throw IoError(a.cov + ": write failed");
+  }
+  if (!a.plot.empty() && !estimate.empty()) {
+    plot_trajectories(staged.file(a.plot + "_trajectory.png"), map.ros,
+                      {{a.method, estimate, false}}, a.method + " on " + a.log);
+    plot_reprojected_scans(staged.file(a.plot + "_scans.png"), map.ros, estimate, scans,
+                           "scans reprojected from the " + a.method + " poses");
+  }
+  staged.commit();
+
   std::printf("%s: %zu scans processed in %.3f s wall (%.3f ms per scan mean, %.3f max)\n",
-              a.method.c_str(), idx.size(), wall, ms_sum / static_cast<double>(idx.size()), ms_max);
+              a.method.c_str(), processed, wall,
+              processed > 0 ? ms_sum / static_cast<double>(processed) : 0.0, ms_max);
+  if (first > 0) std::printf("  %-22s %zu\n", "refused (--init global)", first);
+  if (!started) std::printf("  %-22s %zu\n", "not tried", idx.size() - first);
   for (const auto& [s, n] : status_count) std::printf("  %-22s %d\n", to_string(s), n);
   if (const auto* rec = dynamic_cast<const RecoveringLocalizer*>(loc.get())) {
     if (rec->recoveries() > 0 || rec->searches() > 0) {
@@ -194,31 +254,43 @@ void run_localize(const LocalizeArgs& a) {
       std::printf("  (--no-recover: the lost scans were not localized again)\n");
     }
   }
+  std::printf("wrote %s (%zu of %zu poses: %s)", a.out.c_str(), written, idx.size(),
+              a.all_poses ? "every status" : a.accept_status.c_str());
+  if (!a.cov.empty()) {
+    std::printf(", %s (%zu rows, %zu covariances)", a.cov.c_str(), rows.size(), with_cov);
+  }
   const int localized = status_count[LocalizationStatus::kConverged];
-  std::printf("wrote %s", a.out.c_str());
-  if (cov.is_open()) std::printf(", %s (%zu covariances)", a.cov.c_str(), with_cov);
-  if (cov.is_open() && with_cov == 0 && localized > 0) {
+  if (!a.cov.empty() && with_cov == 0 && localized > 0) {
     std::printf(" — %s reports no covariance", a.method.c_str());
   }
   std::printf("\n");
-  if (!a.plot.empty()) {
-    plot_trajectories(a.plot + "_trajectory.png", map.ros, {{a.method, estimate, false}},
-                      a.method + " on " + a.log);
-    plot_reprojected_scans(a.plot + "_scans.png", map.ros, estimate, scans,
-                           "scans reprojected from the " + a.method + " poses");
+  if (!a.plot.empty() && !estimate.empty()) {
     std::printf("wrote %s_trajectory.png, %s_scans.png\n", a.plot.c_str(), a.plot.c_str());
   }
+
+  // What the run means: nothing localized (exit 3), too little (a warning, exit 3 with --strict),
+  // lost scans with --strict (exit 3).
+  if (!started) {
+    throw NotLocalized(a.log + ": --init global: none of the first " + std::to_string(first) +
+                       " scans could be localized on " + a.map +
+                       " without ambiguity (give --init x,y,yaw); " + a.out + " holds no pose");
+  }
   const double fraction = static_cast<double>(localized) / static_cast<double>(idx.size());
+  char msg[512];
+  std::snprintf(msg, sizeof msg,
+                "only %d of %zu scans (%.1f %%) localized (converged), fewer than %.0f %%: the "
+                "map does not explain this log's scans (wrong map, --init, --time-base or time "
+                "window?)",
+                localized, idx.size(), 100.0 * fraction, 100.0 * kMinLocalizedFraction);
+  if (localized == 0) throw NotLocalized(std::string(msg) + "; " + a.out + " holds no pose");
   if (fraction < kMinLocalizedFraction) {
-    char msg[512];
-    std::snprintf(msg, sizeof msg,
-                  "only %d of %zu scans (%.1f %%) localized (converged), fewer than %.0f %%: the "
-                  "map does not explain this log's scans (wrong map, --init, --time-base or time "
-                  "window?), and %s holds mostly dead reckoning",
-                  localized, idx.size(), 100.0 * fraction, 100.0 * kMinLocalizedFraction,
-                  a.out.c_str());
-    if (a.strict) throw Error(std::string(msg) + " (--strict)");
+    if (a.strict) throw NotLocalized(std::string(msg) + " (--strict)");
     std::fprintf(stderr, "vdtnav localize: warning: %s\n", msg);
+  }
+  const int lost = status_count[LocalizationStatus::kLost];
+  if (a.strict && lost > 0) {
+    throw NotLocalized("--strict: " + std::to_string(lost) + " of " + std::to_string(idx.size()) +
+                       " scans lost (the outputs are written)");
   }
 }
 
@@ -228,9 +300,9 @@ void add_localize_command(CLI::App& app) {
   auto args = std::make_shared<LocalizeArgs>();
   CLI::App* cmd = app.add_subcommand("localize", "Localize a log's scans on a map");
   // --map, --log and --out are required unless --print-config (checked in run_localize).
-  cmd->add_option("--map", args->map, "ROS map_server YAML (required)")->check(CLI::ExistingFile);
+  cmd->add_option("--map", args->map, "ROS map_server YAML (required)")->check(input_file("--map"));
   cmd->add_option("--log", args->log, "CARMEN log, plain or gzip (required)")
-      ->check(CLI::ExistingFile);
+      ->check(input_file("--log"));
   cmd->add_option("--method", args->method, "Localizer")
       ->check(CLI::IsMember(localizer_methods()))
       ->capture_default_str();
@@ -247,13 +319,21 @@ void add_localize_command(CLI::App& app) {
   cmd->add_option("--config", args->config,
                   "Localizer settings (YAML, keys documented by --print-config and the README); "
                   "unnamed keys keep their defaults")
-      ->check(CLI::ExistingFile);
+      ->check(input_file("--config"));
   cmd->add_flag("--print-config", args->print_config,
                 "Print the settings of --method (with --config applied), every key with its unit "
                 "and meaning, and exit");
-  cmd->add_option(
-      "--cov", args->cov,
-      "Covariance output (CSV: t,xx,xy,xt,yy,yt,tt; one row per scan, nan without one)");
+  cmd->add_option("--cov", args->cov,
+                  "Pose table (CSV: t,status,explained,xx,xy,xt,yy,yt,tt): one row per scan of "
+                  "the window whatever its status; explained and the covariance nan where not "
+                  "measured");
+  cmd->add_flag("--all-poses", args->all_poses,
+                "Write the pose of every scan to --out, whatever its status (the --cov table "
+                "says which)");
+  cmd->add_option("--accept-status", args->accept_status,
+                  "Statuses whose poses --out holds, comma-separated among converged, "
+                  "not_converged, too_few_observations, diverged, refused, lost")
+      ->capture_default_str();
   cmd->add_option("--plot", args->plot,
                   "Figure prefix: PREFIX_trajectory.png, PREFIX_scans.png (reprojected scans)");
   cmd->add_option("--odometry", args->odometry,
@@ -278,7 +358,8 @@ void add_localize_command(CLI::App& app) {
       ->excludes(recover);
   cmd->add_flag("--quiet", args->quiet, "No progress bar");
   cmd->add_flag("--strict", args->strict,
-                "Fail (exit 1) when fewer than 10 % of the scans localize, instead of warning");
+                "Exit 3 when a scan is lost or fewer than 10 % of the scans localize (without it: "
+                "exit 3 only when none does, a warning under 10 %)");
   cmd->callback([args, max_range] {
     args->max_range_given = max_range->count() > 0;
     run_localize(*args);

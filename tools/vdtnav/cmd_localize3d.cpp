@@ -9,11 +9,14 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <set>
 #include <sstream>
 
 #include "common.hpp"
+#include "exit_status.hpp"
 #include "map3d.hpp"
 #include "parse.hpp"
+#include "staged_output.hpp"
 #include "vdtnav/core/error.hpp"
 #include "vdtnav/estimation/localizer_config.hpp"
 #include "vdtnav/estimation/localizer_factory.hpp"
@@ -46,7 +49,23 @@ struct Localize3dArgs {
   bool multi_start = false;
   bool quiet = false;
   bool print_config = false;
+  bool strict = false;
+  bool all_poses = false;
+  std::string accept_status = "converged";
+  /// 4-DOF: the held roll and pitch's standard deviation (radians); NaN: not estimated.
+  double attitude_sigma = std::numeric_limits<double>::quiet_NaN();
 };
+
+/// status.csv's header: the scan's time, status, explained fraction, then the upper triangle of
+/// the 6 x 6 covariance of (x, y, z, rx, ry, rz), row by row (rx, ry, rz: the rotation vector of
+/// the left perturbation, radians).
+std::string status_table_header() {
+  static const char* const kNames[6] = {"x", "y", "z", "rx", "ry", "rz"};
+  std::string h = "t,status,explained";
+  for (int i = 0; i < 6; ++i)
+    for (int j = i; j < 6; ++j) h += std::string(",") + kNames[i] + kNames[j];
+  return h;
+}
 
 /// One scan's result, as written.
 struct ScanReport {
@@ -117,10 +136,22 @@ std::string yaml_report(const ScanReport& r, int dof) {
   y << "quaternion_xyzw: [" << q.x() << ", " << q.y() << ", " << q.z() << ", " << q.w() << "]\n";
   y << "has_covariance: " << (r.result.has_covariance ? "true" : "false") << "\n";
   y << "covariance:  # 6x6 of (dx, dy, dz, dtheta_x, dtheta_y, dtheta_z): a left perturbation "
-       "in the map frame, pose = Exp(delta) * estimate; m^2, rad^2\n";
+       "in the map frame, pose = Exp(delta) * estimate; m^2, rad^2"
+    << (dof == 4 && std::isnan(r.result.covariance(3, 3))
+            ? "; .nan rows: roll and pitch held, not estimated (--attitude-sigma gives them one)"
+            : "")
+    << "\n";
   for (int i = 0; i < 6; ++i) {
     y << "  - [";
-    for (int j = 0; j < 6; ++j) y << (j ? ", " : "") << r.result.covariance(i, j);
+    for (int j = 0; j < 6; ++j) {
+      const double c = r.result.covariance(i, j);
+      y << (j ? ", " : "");
+      if (std::isnan(c)) {
+        y << ".nan";  // YAML's NaN
+      } else {
+        y << c;
+      }
+    }
     y << "]\n";
   }
   y << "readings: " << r.readings << "  # after range limits and voxel downsampling, of "
@@ -133,6 +164,25 @@ std::string yaml_report(const ScanReport& r, int dof) {
   return y.str();
 }
 
+/// One row of status.csv (status_table_header()).
+std::string status_row(double t, const ScanReport& r) {
+  std::string row;
+  char b[64];
+  std::snprintf(b, sizeof b, "%.6f,", t);
+  row += b;
+  row += status_token(r.result.status);
+  std::snprintf(b, sizeof b, ",%.4f", r.explained);
+  row += b;
+  for (int i = 0; i < 6; ++i) {
+    for (int j = i; j < 6; ++j) {
+      std::snprintf(b, sizeof b, ",%.9g",
+                    r.result.has_covariance ? r.result.covariance(i, j) : std::nan(""));
+      row += b;
+    }
+  }
+  return row;
+}
+
 void write_text(const std::string& path, const std::string& text) {
   std::ofstream f(path);
   if (!f) throw IoError(path + ": cannot open for writing");
@@ -142,20 +192,26 @@ void write_text(const std::string& path, const std::string& text) {
 
 void run_localize3d(const Localize3dArgs& a) {
   // Options first: a typo must not cost a map build.
-  if (a.dof != 6 && a.dof != 4) throw ConfigError("localize3d: --dof must be 6 or 4");
+  if (a.dof != 6 && a.dof != 4) throw UsageError("localize3d: --dof must be 6 or 4");
   if (!a.init.empty() && !a.init_matrix.empty())
-    throw ConfigError("localize3d: give --init or --init-matrix, not both");
+    throw UsageError("localize3d: give --init or --init-matrix, not both");
   if (a.scans.empty() == a.scans_dir.empty() && !a.print_config)
-    throw ConfigError("localize3d: give --scan FILE (one or more) or --scans DIR");
+    throw UsageError("localize3d: give --scan FILE (one or more) or --scans DIR");
   if (!(a.min_explained >= 0.0 && a.min_explained <= 1.0))
-    throw ConfigError("localize3d: --min-explained must be in [0, 1]");
+    throw UsageError("localize3d: --min-explained must be in [0, 1]");
+  if (!std::isnan(a.attitude_sigma) && !(a.attitude_sigma > 0.0 && std::isfinite(a.attitude_sigma)))
+    throw UsageError("localize3d: --attitude-sigma must be a finite number of radians > 0");
+  if (!std::isnan(a.attitude_sigma) && a.dof != 4)
+    throw UsageError("localize3d: --attitude-sigma is for --dof 4 (roll and pitch held)");
+  const std::set<LocalizationStatus> accepted_statuses =
+      parse_statuses(a.accept_status, "--accept-status");
   LocalizerSettings settings = cloud_settings();
   if (!a.config.empty()) settings = load_localizer_config(a.config, settings);
   if (a.print_config) {
     std::fputs(localizer_settings_yaml(settings, "vdt-opt").c_str(), stdout);
     return;
   }
-  if (a.map.empty()) throw ConfigError("localize3d: --map is required");
+  if (a.map.empty()) throw UsageError("localize3d: --map is required");
   VdtOptimizerOptions opt = settings.vdt_opt;
   opt.four_dof = a.dof == 4;
   Pose3 init = Pose3::Identity();
@@ -166,12 +222,11 @@ void run_localize3d(const Localize3dArgs& a) {
   if (!a.crop.empty()) mo.crop = parse_crop(a.crop, "--crop");
   const std::vector<std::string> scans = a.scans_dir.empty() ? a.scans : scans_in_dir(a.scans_dir);
   const bool sequence = scans.size() > 1;
-  if (sequence) {
-    std::error_code ec;
-    fs::create_directories(a.out, ec);
-    if (!fs::is_directory(a.out))
-      throw IoError(a.out + ": cannot create the output folder for a sequence of scans");
-  }
+  // The outputs appear when the run completes: a sequence's folder is written under a temporary
+  // name beside it (staged_output.hpp), so a bad scan in the middle leaves nothing behind.
+  StagedOutputs staged;
+  std::string out_dir;
+  if (sequence && !a.out.empty()) out_dir = staged.folder(a.out);
 
   std::fprintf(stderr, "[localize3d] map %s\n", a.map.c_str());
   const Map3d map = load_map3d(a.map, mo);
@@ -201,10 +256,12 @@ void run_localize3d(const Localize3dArgs& a) {
   // Lost when a window explains no more than --min-explained (every unexplained reading counts
   // against the pose in 3D): contradiction 1 - min_explained, 0.5 at least.
   lo.lost.lost_contradiction = std::max(lo.lost.lost_contradiction, 1.0 - a.min_explained);
+  lo.held_attitude_sigma = a.attitude_sigma;  // 4-DOF, no IMU: NaN = roll, pitch not estimated
   VdtOptimizationLocalizer3 tracker(optimizer, lo);
-  std::vector<StampedPose3> trajectory;
+  std::vector<StampedPose3> trajectory;  // the poses of the accepted statuses
+  std::vector<std::string> table = {status_table_header()};
   Pose3 last = init, before_last = init;
-  std::size_t accepted = 0, refused = 0;
+  std::size_t accepted = 0, refused = 0, lost = 0;
   for (std::size_t k = 0; k < scans.size(); ++k) {
     ScanReport r;
     r.scan = scans[k];
@@ -224,6 +281,9 @@ void run_localize3d(const Localize3dArgs& a) {
       r.result.explained = r.explained;
       if (r.result.status == LocalizationStatus::kConverged)
         tracker.reset(r.result.pose, r.result.covariance);
+      if (a.dof == 4 && r.result.has_covariance) {  // the held roll and pitch (the file comment)
+        r.result.covariance = tracker.with_held_attitude(obs, r.result, a.attitude_sigma);
+      }
     } else {
       OdometryStep3 motion;  // constant velocity
       motion.delta = before_last.inverse() * last;
@@ -240,6 +300,7 @@ void run_localize3d(const Localize3dArgs& a) {
     } else {
       ++refused;
     }
+    lost += r.result.status == LocalizationStatus::kLost;
     const Eigen::Vector3d xyz = r.result.pose.translation();
     const Eigen::Vector3d rpy = rpy_of(r.result.pose.linear());
     std::printf(
@@ -259,19 +320,41 @@ void run_localize3d(const Localize3dArgs& a) {
     }
     if (!a.out.empty()) {
       const std::string yaml =
-          sequence ? (fs::path(a.out) / (fs::path(scans[k]).stem().string() + ".yaml")).string()
-                   : a.out;
+          sequence ? (fs::path(out_dir) / (fs::path(scans[k]).stem().string() + ".yaml")).string()
+                   : staged.file(a.out);
       write_text(yaml, yaml_report(r, a.dof));
     }
-    trajectory.push_back({stamp_of(scans[k], k), r.result.pose});
+    const double t = stamp_of(scans[k], k);
+    if (a.all_poses || accepted_statuses.count(r.result.status) > 0) {
+      trajectory.push_back({t, r.result.pose});
+    }
+    table.push_back(status_row(t, r));
   }
   if (sequence && !a.out.empty()) {
-    const std::string tum = (fs::path(a.out) / "trajectory.tum").string();
-    save_tum_trajectory(tum, trajectory);
-    std::fprintf(stderr, "[localize3d] wrote %s and one YAML per scan\n", tum.c_str());
+    save_tum_trajectory((fs::path(out_dir) / "trajectory.tum").string(), trajectory);
+    std::string csv;
+    for (const std::string& row : table) csv += row + "\n";
+    write_text((fs::path(out_dir) / "status.csv").string(), csv);
   }
-  std::fprintf(stderr, "[localize3d] %zu scans: %zu converged, %zu not\n", scans.size(), accepted,
-               refused);
+  staged.commit();
+  if (sequence && !a.out.empty()) {
+    std::fprintf(stderr,
+                 "[localize3d] wrote %s/trajectory.tum (%zu of %zu poses: %s), status.csv and one "
+                 "YAML per scan\n",
+                 a.out.c_str(), trajectory.size(), scans.size(),
+                 a.all_poses ? "every status" : a.accept_status.c_str());
+  }
+  std::fprintf(stderr, "[localize3d] %zu scans: %zu converged, %zu not (%zu lost)\n", scans.size(),
+               accepted, refused, lost);
+  if (accepted == 0) {
+    throw NotLocalized("localize3d: no scan of " + std::to_string(scans.size()) +
+                       " localized (converged): the map does not explain them at the guess "
+                       "(wrong map, --init, or try --multi-start)");
+  }
+  if (a.strict && lost > 0) {
+    throw NotLocalized("--strict: " + std::to_string(lost) + " of " + std::to_string(scans.size()) +
+                       " scans lost (the outputs are written)");
+  }
 }
 
 }  // namespace
@@ -284,8 +367,10 @@ void add_localize3d_command(CLI::App& app) {
       "explains, per scan");
   cmd->add_option("--map", args->map,
                   "Map: point cloud (.pcd .ply .vtk .csv .txt .xyz), OctoMap (.bt .ot) or a map "
-                  "saved by `vdtnav map3d` (.vdt dense, .svdt sparse); required");
-  cmd->add_option("--scan", args->scans, "Scan file(s) (.pcd .ply .vtk .csv .txt .xyz), in order");
+                  "saved by `vdtnav map3d` (.vdt dense, .svdt sparse); required")
+      ->check(input_file("--map"));
+  cmd->add_option("--scan", args->scans, "Scan file(s) (.pcd .ply .vtk .csv .txt .xyz), in order")
+      ->check(input_file("--scan"));
   cmd->add_option("--scans", args->scans_dir, "A folder of scans, localized in name order");
   cmd->add_option("--init", args->init,
                   "Initial guess x,y,z,roll,pitch,yaw (metres, radians; default identity)");
@@ -317,16 +402,29 @@ void add_localize3d_command(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--config", args->config,
                   "Settings YAML over the 3D defaults (cloud_settings(); keys as `vdtnav "
-                  "localize --print-config` lists them); localize3d reads its vdt-opt section");
+                  "localize --print-config` lists them); localize3d reads its vdt-opt section")
+      ->check(input_file("--config"));
   cmd->add_option("--out", args->out,
                   "One scan: a YAML file. A sequence: a folder (one YAML per scan, "
-                  "trajectory.tum)");
+                  "trajectory.tum, status.csv: t,status,explained then the 6x6 covariance's "
+                  "upper triangle, one row per scan)");
   cmd->add_option("--min-explained", args->min_explained,
                   "A converged pose explaining less of the scan is reported as refused")
       ->capture_default_str();
   cmd->add_flag("--multi-start", args->multi_start,
                 "Solve again from starts around the guess when the first solution leaves "
                 "readings unexplained (a poor guess)");
+  cmd->add_option("--attitude-sigma", args->attitude_sigma,
+                  "--dof 4: the standard deviation of the held roll and pitch (from --init), "
+                  "radians. Unset: they are not estimated, NaN in the covariance");
+  cmd->add_flag("--all-poses", args->all_poses,
+                "A sequence's trajectory.tum holds the pose of every scan, whatever its status "
+                "(status.csv says which)");
+  cmd->add_option("--accept-status", args->accept_status,
+                  "Statuses whose poses trajectory.tum holds, comma-separated among converged, "
+                  "not_converged, too_few_observations, diverged, refused, lost")
+      ->capture_default_str();
+  cmd->add_flag("--strict", args->strict, "Exit 3 when a scan of the sequence is lost");
   cmd->add_flag("--quiet", args->quiet, "Less on stderr");
   cmd->add_flag("--print-config", args->print_config,
                 "Print the settings in use (defaults + --config) as a documented YAML and exit");

@@ -7,6 +7,7 @@
 #include <cstdio>
 
 #include "common.hpp"
+#include "exit_status.hpp"
 #include "progress.hpp"
 #include "vdtnav/core/error.hpp"
 #include "vdtnav/io/vdt_map_file.hpp"
@@ -33,7 +34,7 @@ void run_map(const MapArgs& a) {
   if (!std::isfinite(a.margin) || a.margin < 0.0) {
     char got[32];
     std::snprintf(got, sizeof got, "%g", a.margin);
-    throw ConfigError(std::string("--margin: expected a finite number of metres >= 0, got ") + got);
+    throw UsageError(std::string("--margin: expected a finite number of metres >= 0, got ") + got);
   }
   CarmenLogOptions lo;
   lo.max_range = a.max_range;
@@ -47,9 +48,9 @@ void run_map(const MapArgs& a) {
   }
   const std::vector<std::size_t> idx = scans_in(log, a.window);
   if (idx.empty()) {
-    throw ConfigError(a.log + ": no laser message in the time window [" +
-                      std::to_string(a.window.from) + ", " + std::to_string(a.window.to) +
-                      "] (the log has " + std::to_string(log.lasers.size()) + " scans)");
+    throw UsageError(a.log + ": no laser message in the time window [" +
+                     std::to_string(a.window.from) + ", " + std::to_string(a.window.to) +
+                     "] (the log has " + std::to_string(log.lasers.size()) + " scans)");
   }
   std::vector<Pose2> poses;
   std::vector<LaserScan> scans;
@@ -104,7 +105,7 @@ void add_map_command(CLI::App& app) {
       "Build an occupancy map (ROS YAML + PGM) and its VDT map from a log's poses and scans");
   cmd->add_option("--log", args->log, "CARMEN log (plain or gzip); its laser poses are used")
       ->required()
-      ->check(CLI::ExistingFile);
+      ->check(input_file("--log"));
   cmd->add_option("--resolution", args->resolution, "Cell size, metres")
       ->required()
       ->check(CLI::PositiveNumber);

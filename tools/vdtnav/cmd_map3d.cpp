@@ -4,7 +4,9 @@
 #include <cstdio>
 
 #include "common.hpp"
+#include "exit_status.hpp"
 #include "map3d.hpp"
+#include "staged_output.hpp"
 #include "vdtnav/core/error.hpp"
 #include "vdtnav/io/sparse_vdt_map_file.hpp"
 #include "vdtnav/io/vdt_map_file.hpp"
@@ -26,14 +28,16 @@ void run_map3d(const Map3dArgs& a) {
   };
   o.sparse = ends_with(".svdt");
   if (!o.sparse && !ends_with(".vdt")) {
-    throw ConfigError("map3d: --out must name a .vdt (dense) or .svdt (sparse) file, got '" +
-                      a.out + "'");
+    throw UsageError("map3d: --out must name a .vdt (dense) or .svdt (sparse) file, got '" + a.out +
+                     "'");
   }
   std::fprintf(stderr, "[map3d] building the %s VDT map of %s\n", o.sparse ? "sparse" : "dense",
                a.map.c_str());
   const Map3d map = load_map3d(a.map, o);
-  if (map.dense) save_vdt_map(a.out, *map.dense);
-  if (map.sparse) save_sparse_vdt_map(a.out, *map.sparse);
+  StagedOutputs staged;  // a failed write leaves no partial map
+  if (map.dense) save_vdt_map(staged.file(a.out), *map.dense);
+  if (map.sparse) save_sparse_vdt_map(staged.file(a.out), *map.sparse);
+  staged.commit();
   const VdtField3& f = map.field();
   std::printf("wrote %s: %d x %d x %d voxels of %.3f m, %.1f MB, built in %.2f s\n", a.out.c_str(),
               f.size().x(), f.size().y(), f.size().z(), f.resolution(),

@@ -1,9 +1,12 @@
 #include "common.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 
+#include "exit_status.hpp"
 #include "vdtnav/core/error.hpp"
 #include "vdtnav/io/tum_trajectory.hpp"
 
@@ -24,6 +27,56 @@ eval::Trajectory2 load_trajectory2(const std::string& tum_path) {
   eval::Trajectory2 out;
   out.reserve(tum.poses.size());
   for (const auto& s : tum.poses) out.push_back({s.t, pose2_from_pose3(s.pose)});
+  return out;
+}
+
+CLI::Validator input_file(const std::string& flag) {
+  return CLI::Validator(
+      [flag](std::string& path) {
+        std::error_code ec;
+        if (!std::filesystem::exists(path, ec)) {
+          throw IoError(flag + ": File does not exist: " + path);
+        }
+        if (std::filesystem::is_directory(path, ec)) {
+          throw IoError(flag + ": expected a file, got the folder " + path);
+        }
+        return std::string();
+      },
+      "FILE");
+}
+
+std::string status_token(LocalizationStatus s) {
+  std::string t = to_string(s);
+  std::replace(t.begin(), t.end(), ' ', '_');
+  return t;
+}
+
+std::set<LocalizationStatus> parse_statuses(const std::string& text, const std::string& what) {
+  constexpr LocalizationStatus kAll[] = {LocalizationStatus::kConverged,
+                                         LocalizationStatus::kNotConverged,
+                                         LocalizationStatus::kTooFewObservations,
+                                         LocalizationStatus::kDiverged,
+                                         LocalizationStatus::kRefused,
+                                         LocalizationStatus::kLost};
+  std::set<LocalizationStatus> out;
+  std::size_t begin = 0;
+  while (begin <= text.size()) {
+    const std::size_t comma = std::min(text.find(',', begin), text.size());
+    const std::string name = text.substr(begin, comma - begin);
+    bool known = false;
+    for (LocalizationStatus s : kAll) {
+      if (status_token(s) == name) {
+        out.insert(s);
+        known = true;
+      }
+    }
+    if (!known) {
+      throw UsageError(what + ": unknown status '" + name +
+                       "' (expected converged, not_converged, too_few_observations, diverged, "
+                       "refused or lost, comma-separated)");
+    }
+    begin = comma + 1;
+  }
   return out;
 }
 
@@ -48,7 +101,7 @@ void add_time_base_option(CLI::App& app, std::string& time_base) {
 CarmenLog load_log(const std::string& path, const CarmenLogOptions& options,
                    const std::string& time_base) {
   if (time_base != "logger" && time_base != "ipc") {
-    throw ConfigError("--time-base: expected logger or ipc, got '" + time_base + "'");
+    throw UsageError("--time-base: expected logger or ipc, got '" + time_base + "'");
   }
   CarmenLog log = load_carmen_log(path, options);
   if (time_base == "ipc") {

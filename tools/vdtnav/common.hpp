@@ -7,9 +7,11 @@
 
 #include <limits>
 #include <memory>
+#include <set>
 #include <string>
 #include <vector>
 
+#include "vdtnav/estimation/localizer.hpp"
 #include "vdtnav/eval/trajectory_metrics.hpp"
 #include "vdtnav/io/carmen_log.hpp"
 #include "vdtnav/io/ros_map.hpp"
@@ -61,6 +63,19 @@ double apply_no_return_code(CarmenLog& log, const char* tag);
 
 /// \brief Indices of the log's laser messages inside the window.
 [[nodiscard]] std::vector<std::size_t> scans_in(const CarmenLog& log, const TimeWindow& window);
+
+/// \brief CLI11 check of an input file given with `flag`: a missing file (or a folder) throws
+/// IoError "FLAG: File does not exist: PATH", bad input (exit 1) like a file that cannot be read,
+/// not a usage error.
+[[nodiscard]] CLI::Validator input_file(const std::string& flag);
+
+/// \brief A status as the pose tables write it: to_string() with '_' for ' ' ("not_converged").
+[[nodiscard]] std::string status_token(LocalizationStatus s);
+
+/// \brief Statuses from a comma-separated list of status_token() names. \throws UsageError naming
+/// `what` for an unknown name or an empty list.
+[[nodiscard]] std::set<LocalizationStatus> parse_statuses(const std::string& text,
+                                                          const std::string& what);
 
 /// \brief Adds each subcommand to the application.
 void add_map_command(CLI::App& app);

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "exit_status.hpp"
 #include "vdtnav/core/error.hpp"
 #include "vdtnav/core/file_extension.hpp"
 #include "vdtnav/io/sparse_vdt_map_file.hpp"
@@ -41,35 +42,35 @@ CropBox parse_crop(const std::string& text, const std::string& what) {
     v[k] = std::strtod(field.c_str(), &end);
     if (field.empty() || *end != '\0' || !std::isfinite(v[k]) ||
         ((k < 5) != (comma != std::string::npos))) {
-      throw ConfigError(what + ": expected xmin,ymin,zmin,xmax,ymax,zmax (metres), got '" + text +
-                        "'");
+      throw UsageError(what + ": expected xmin,ymin,zmin,xmax,ymax,zmax (metres), got '" + text +
+                       "'");
     }
     begin = comma + 1;
   }
   box.min = Eigen::Vector3d(v[0], v[1], v[2]);
   box.max = Eigen::Vector3d(v[3], v[4], v[5]);
   if (!(box.max.array() > box.min.array()).all())
-    throw ConfigError(what + ": expected max > min on every axis, got '" + text + "'");
+    throw UsageError(what + ": expected max > min on every axis, got '" + text + "'");
   return box;
 }
 
 Map3d load_map3d(const std::string& path, const Map3dOptions& options) {
   if (!(std::isfinite(options.resolution) && options.resolution >= 0.0))
-    throw ConfigError("--resolution must be finite and >= 0 (0: the source's default)");
+    throw UsageError("--resolution must be finite and >= 0 (0: the source's default)");
   if (!(std::isfinite(options.margin) && options.margin >= 0.0))
-    throw ConfigError("--margin must be finite and >= 0");
+    throw UsageError("--margin must be finite and >= 0");
   const auto start = std::chrono::steady_clock::now();
   const std::string ext = lower_extension(path);
   Map3d out;
   const auto check_resolution = [&](double saved) {
     if (options.resolution > 0.0 && std::abs(options.resolution - saved) > 1e-9) {
-      throw ConfigError(path + ": the saved map has resolution " + std::to_string(saved) +
-                        " m, not the --resolution " + std::to_string(options.resolution) +
-                        " asked for (build it again)");
+      throw UsageError(path + ": the saved map has resolution " + std::to_string(saved) +
+                       " m, not the --resolution " + std::to_string(options.resolution) +
+                       " asked for (build it again)");
     }
   };
   if (ext == ".vdt" || ext == ".svdt") {
-    if (options.crop) throw ConfigError(path + ": --crop applies to point clouds, not a saved map");
+    if (options.crop) throw UsageError(path + ": --crop applies to point clouds, not a saved map");
     if (ext == ".vdt") {
       out.dense = std::make_unique<VdtMap3>(load_vdt_map<3>(path));
       out.source = "vdt map file";
@@ -79,7 +80,7 @@ Map3d load_map3d(const std::string& path, const Map3dOptions& options) {
     }
     check_resolution(out.field().resolution());
   } else if (ext == ".bt" || ext == ".ot") {
-    if (options.crop) throw ConfigError(path + ": --crop applies to point clouds, not an octree");
+    if (options.crop) throw UsageError(path + ": --crop applies to point clouds, not an octree");
     OctreeOccupancyOptions o;
     o.resolution = options.resolution;
     o.margin = options.margin;
@@ -102,7 +103,7 @@ Map3d load_map3d(const std::string& path, const Map3dOptions& options) {
         const Eigen::Vector3f q = p.getVector3fMap();
         if ((q.array() >= lo.array()).all() && (q.array() <= hi.array()).all()) kept.push_back(p);
       }
-      if (kept.empty()) throw ConfigError(path + ": --crop keeps none of the cloud's points");
+      if (kept.empty()) throw UsageError(path + ": --crop keeps none of the cloud's points");
       cloud.swap(kept);
     }
     PointCloudOccupancyOptions o;

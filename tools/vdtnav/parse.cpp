@@ -9,6 +9,7 @@
 #include <cerrno>
 #include <cstring>
 
+#include "exit_status.hpp"
 #include "vdtnav/core/error.hpp"
 
 namespace vdtnav::tools {
@@ -43,7 +44,7 @@ bool parse_three(const std::string& text, Eigen::Vector3d& out) {
 Pose2 parse_pose(const std::string& text, const std::string& what) {
   Pose2 p;
   if (!parse_three(text, p) || !p.allFinite()) {
-    throw ConfigError(what + ": expected x,y,yaw (metres, metres, radians), got '" + text + "'");
+    throw UsageError(what + ": expected x,y,yaw (metres, metres, radians), got '" + text + "'");
   }
   p[2] = wrap_angle(p[2]);
   return p;
@@ -52,10 +53,10 @@ Pose2 parse_pose(const std::string& text, const std::string& what) {
 Eigen::Vector3d parse_sigmas(const std::string& text, const std::string& what) {
   Eigen::Vector3d s;
   if (!parse_three(text, s) || !s.allFinite() || (s.array() < 0.0).any()) {
-    throw ConfigError(what +
-                      ": expected three standard deviations sx,sy,syaw, finite and >= 0 "
-                      "(metres, metres, radians), got '" +
-                      text + "'");
+    throw UsageError(what +
+                     ": expected three standard deviations sx,sy,syaw, finite and >= 0 "
+                     "(metres, metres, radians), got '" +
+                     text + "'");
   }
   return s;
 }
@@ -63,10 +64,10 @@ Eigen::Vector3d parse_sigmas(const std::string& text, const std::string& what) {
 Pose3 parse_pose3(const std::string& text, const std::string& what) {
   Eigen::Matrix<double, 6, 1> v;
   if (!parse_numbers<6>(text, v) || !v.allFinite()) {
-    throw ConfigError(what +
-                      ": expected x,y,z,roll,pitch,yaw (metres and radians, R = Rz(yaw) "
-                      "Ry(pitch) Rx(roll)), got '" +
-                      text + "'");
+    throw UsageError(what +
+                     ": expected x,y,z,roll,pitch,yaw (metres and radians, R = Rz(yaw) "
+                     "Ry(pitch) Rx(roll)), got '" +
+                     text + "'");
   }
   return pose3_from_xyz_rpy(v[0], v[1], v[2], v[3], v[4], v[5]);
 }

@@ -14,16 +14,16 @@
 namespace vdtnav::tools {
 
 /// \brief Parses "x,y,yaw" (metres, metres, radians; finite); yaw is wrapped to (-pi, pi].
-/// \throws ConfigError naming `what` and the text.
+/// \throws UsageError naming `what` and the text.
 [[nodiscard]] Pose2 parse_pose(const std::string& text, const std::string& what);
 
 /// \brief Parses "sx,sy,syaw", three standard deviations (metres, metres, radians): finite and
 /// >= 0, and not wrapped (a yaw sigma of 2 pi stays 2 pi).
-/// \throws ConfigError naming `what`, the text and what was expected.
+/// \throws UsageError naming `what`, the text and what was expected.
 [[nodiscard]] Eigen::Vector3d parse_sigmas(const std::string& text, const std::string& what);
 
 /// \brief Parses "x,y,z,roll,pitch,yaw" (metres, radians; finite) as R = Rz(yaw) Ry(pitch)
-/// Rx(roll). \throws ConfigError naming `what` and the text.
+/// Rx(roll). \throws UsageError naming `what` and the text.
 [[nodiscard]] Pose3 parse_pose3(const std::string& text, const std::string& what);
 
 /// \brief Reads a 4x4 rigid transform, 16 numbers row by row, separated by blanks, commas or

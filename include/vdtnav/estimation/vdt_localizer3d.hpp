@@ -18,12 +18,17 @@
 ///    does not explain counting as a contradiction (no unknown space in a 3D map here): lost when
 ///    a window explains half its readings or less, found again from 70 %.
 ///
-/// 4-DOF mode: roll and pitch are held at the IMU's (or the prediction's), so their error goes
-/// into x, y, z and yaw through the scan: the reported 6 x 6 covariance is that of the 4-DOF solve
-/// plus S Sigma_rp S^T, S = -H_ff^-1 H_fr the sensitivity of the free components to the held ones
-/// (H the cost's 6-DOF Gauss-Newton Hessian at the solution), with Sigma_rp the IMU's
-/// variance in the roll/pitch rows: every component has an honest variance (eval::nees works).
+/// 4-DOF mode: roll and pitch are held at the IMU's (or, without one, at the prediction's: from
+/// the start pose on), so their error goes into x, y, z and yaw through the scan. With a σ for the
+/// held attitude (the IMU's sigma_imu_attitude when the odometry carries roll and pitch, else
+/// held_attitude_sigma when the user gives one), the reported 6 x 6 covariance is that of the
+/// 4-DOF solve plus S Sigma_rp S^T, S = -H_ff^-1 H_fr the sensitivity of the free components to
+/// the held ones (H the cost's 6-DOF Gauss-Newton Hessian at the solution), with Sigma_rp in the
+/// roll/pitch rows: every component has a variance (eval::nees works). Without one, roll and pitch
+/// are not estimated: their rows and columns are NaN, and the free 4 x 4 block is the solve's
+/// (what it is given the held attitude). No σ is invented.
 
+#include <limits>
 #include <random>
 #include <string>
 
@@ -54,8 +59,13 @@ struct VdtLocalizer3Options {
   double sigma_rotation_per_radian = 0.05;
   double sigma_translation_per_second = 0.02;  ///< m/s
   double sigma_rotation_per_second = 0.01;     ///< rad/s
-  /// The IMU's roll and pitch noise (1 sigma), radians: a consumer-grade AHRS, ~0.3 degrees.
+  /// The IMU's roll and pitch noise (1 sigma), radians, for odometry steps that carry them
+  /// (OdometryStep3::has_attitude): a consumer-grade AHRS, ~0.3 degrees.
   double sigma_imu_attitude = 0.005;
+  /// 4-DOF without an IMU: the held roll and pitch's standard deviation (radians), when the user
+  /// knows it (`vdtnav localize3d --attitude-sigma`); NaN (the default): not estimated, NaN rows
+  /// and columns in the reported covariance (see the file comment).
+  double held_attitude_sigma = std::numeric_limits<double>::quiet_NaN();
   /// A reading is explained when its disparity is below this (metres).
   double explained_distance = 0.1;
   /// A solution explaining less of the scan is not accepted; multi-start runs first.
@@ -99,12 +109,14 @@ class VdtOptimizationLocalizer3 final : public Localizer3D {
   [[nodiscard]] std::string name() const override;
   [[nodiscard]] const VdtOptimizer3& optimizer() const noexcept { return optimizer_; }
 
- private:
-  /// The 4-DOF covariance made whole: the held roll and pitch's variance and what their error
-  /// does to the free components (see the file comment).
+  /// \brief The 4-DOF covariance made whole (see the file comment): `r`'s (the 4-DOF solve's,
+  /// zero in the held rows) plus what a held roll and pitch of standard deviation `sigma` do to
+  /// the free components, and sigma^2 in the held rows. NaN `sigma`: the held rows and columns NaN
+  /// (not estimated), the free block `r`'s.
   [[nodiscard]] Matrix6d with_held_attitude(const ObservationSet3& observations,
-                                            const LocalizationResult3& r) const;
+                                            const LocalizationResult3& r, double sigma) const;
 
+ private:
   VdtLocalizer3Options options_;
   VdtOptimizer3 optimizer_;
   VdtOptimizer3 full_;  ///< the 6-DOF twin (shared pyramid): its sensor model gives the Hessian
