@@ -223,7 +223,7 @@ int main(int argc, char** argv) {
            "rel_trans2_mean_m2,rel_rot2_mean_deg2,ate_rmse_m,ate_aligned_rmse_m,ate_rot_rmse_deg,"
            "rpe_trans_rmse_m,rpe_rot_rmse_deg,lost,scans,has_cov,anees,anees_lo,anees_hi,ms_mean,"
            "ms_max,wall_s,rel_nees_used,rel_nees_skipped_no_cov,rel_nees_mean,rel_nees_median,"
-           "rel_nees_inside_7.81,flagged_lost,cpu_ms_max\n";
+           "rel_nees_inside_7.81,flagged_lost,cpu_ms_max,anees_left_out\n";
     std::ofstream md(out + "/table.md");
     md << "Intel Research Lab: map from scans " << split << ".." << n - 1
        << " (corrected poses), localization of scans 0.." << split - 1
@@ -238,7 +238,7 @@ int main(int argc, char** argv) {
       std::snprintf(
           b, sizeof b,
           "%s,%zu,%.6f,%.6f,%.4f,%.4f,%.8f,%.6f,%.6f,%.6f,%.4f,%.6f,%.4f,%zu,%zu,%d,%.4f,"
-          "%.4f,%.4f,%.4f,%.4f,%.4f,%zu,%zu,%.4f,%.4f,%.4f,%zu,%.3f\n",
+          "%.4f,%.4f,%.4f,%.4f,%.4f,%zu,%zu,%.4f,%.4f,%.4f,%zu,%.3f,%zu\n",
           r.method.c_str(), r.rel.used, r.rel.translation.mean, r.rel.translation.std,
           r.rel.rotation.mean * kRadToDeg, r.rel.rotation.std * kRadToDeg,
           r.rel.translation_squared.mean, r.rel.rotation_squared.mean * kRadToDeg * kRadToDeg,
@@ -248,7 +248,8 @@ int main(int argc, char** argv) {
           r.rpe.ok() ? r.rpe.rotation.rmse * kRadToDeg : 0.0, r.lost, r.scans, r.has_cov ? 1 : 0,
           r.anees.anees, r.anees.interval.lower, r.anees.interval.upper, r.ms_mean, r.ms_max,
           r.wall_s, r.rel_nees.used, r.rel_nees.skipped_no_covariance, r.rel_nees.mean,
-          r.rel_nees.median, r.rel_nees.fraction_inside, r.flagged_lost, r.cpu_ms_max);
+          r.rel_nees.median, r.rel_nees.fraction_inside, r.flagged_lost, r.cpu_ms_max,
+          r.has_cov ? r.scans - r.anees.count : 0);
       csv << b;
       std::string anees = r.has_cov ? "" : "—";
       if (r.has_cov) {
@@ -256,6 +257,8 @@ int main(int argc, char** argv) {
         std::snprintf(a, sizeof a, "%.2f [%.2f, %.2f]", r.anees.anees, r.anees.interval.lower,
                       r.anees.interval.upper);
         anees = a;
+        const std::string note = eval::left_out_note(r.anees, r.scans, "without a covariance");
+        if (!note.empty()) anees += " (" + note + ")";
       }
       std::string rel_nees = "—";
       if (r.rel_nees.ok()) {

@@ -272,7 +272,8 @@ int main(int argc, char** argv) {
 
     // ------------------------------------------------------------------ tables
     std::ofstream csv(out + "/table.csv");
-    csv << "method,scans,pos_rmse_m,att_rmse_rad,anees,anees_lo,anees_hi,lost_pct,ms_per_scan\n";
+    csv << "method,scans,pos_rmse_m,att_rmse_rad,anees,anees_lo,anees_hi,lost_pct,ms_per_scan,"
+           "anees_left_out\n";
     std::ofstream md(out + "/table.md");
     md << "# 3D LiDAR localization: a simulated VLP-16 in " << world_name << "\n\n"
        << truth.size() << " scans at 10 Hz, " << speed << " m/s, about "
@@ -295,14 +296,16 @@ int main(int argc, char** argv) {
       const double lost_pct = 100.0 * r.lost / n;
       const double ms = 1e3 * r.seconds / n;
       char line[512];
-      std::snprintf(line, sizeof line, "%s,%zu,%.4f,%.5f,%.3f,%.3f,%.3f,%.1f,%.2f\n",
+      std::snprintf(line, sizeof line, "%s,%zu,%.4f,%.5f,%.3f,%.3f,%.3f,%.1f,%.2f,%zu\n",
                     r.name.c_str(), truth.size(), std::sqrt(se_p / n), std::sqrt(se_a / n), a.anees,
-                    a.interval.lower, a.interval.upper, lost_pct, ms);
+                    a.interval.lower, a.interval.upper, lost_pct, ms, truth.size() - a.count);
+      const std::string note = eval::left_out_note(a, truth.size());
       csv << line;
       std::snprintf(line, sizeof line,
-                    "| %s | %zu | %.4f | %.5f | %.2f | [%.2f, %.2f] | %.1f | %.2f |\n",
+                    "| %s | %zu | %.4f | %.5f | %.2f%s | [%.2f, %.2f] | %.1f | %.2f |\n",
                     r.name.c_str(), truth.size(), std::sqrt(se_p / n), std::sqrt(se_a / n), a.anees,
-                    a.interval.lower, a.interval.upper, lost_pct, ms);
+                    note.empty() ? "" : (" (" + note + ")").c_str(), a.interval.lower,
+                    a.interval.upper, lost_pct, ms);
       md << line;
       std::printf(
           "%s: position RMSE %.4f m, attitude RMSE %.5f rad, ANEES %.2f in [%.2f, %.2f] "

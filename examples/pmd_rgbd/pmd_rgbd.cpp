@@ -335,7 +335,7 @@ int main(int argc, char** argv) {
     // ------------------------------------------------------------------ metrics
     std::ofstream csv(out + "/table.csv");
     csv << "method,frames,pos_rmse_m,yaw_rmse_rad,anees,anees_lo,anees_hi,within_2sigma_pct,"
-           "ms_per_frame\n";
+           "ms_per_frame,anees_left_out\n";
     std::ofstream md(out + "/table.md");
     md << "| method | frames | pos RMSE (m) | yaw RMSE (rad) | ANEES [95 %] | within 2σ (x and y) "
           "% | ms/frame |\n|---|---|---|---|---|---|---|\n";
@@ -356,14 +356,15 @@ int main(int argc, char** argv) {
       const double pct = 100.0 * static_cast<double>(within) / static_cast<double>(n);
       const double ms = t.ms / static_cast<double>(n) + (t.uses_frames ? front_ms : 0.0);
       char line[512];
-      std::snprintf(line, sizeof line, "%s,%zu,%.4f,%.5f,%.3f,%.3f,%.3f,%.1f,%.3f\n",
+      std::snprintf(line, sizeof line, "%s,%zu,%.4f,%.5f,%.3f,%.3f,%.3f,%.1f,%.3f,%zu\n",
                     t.name.c_str(), n, rms(pos), rms(yaw), a.anees, a.interval.lower,
-                    a.interval.upper, pct, ms);
+                    a.interval.upper, pct, ms, n - a.count);
+      const std::string note = eval::left_out_note(a, n);
       csv << line;
       std::snprintf(line, sizeof line,
-                    "| %s | %zu | %.4f | %.5f | %.2f [%.2f, %.2f] | %.1f | %.3f |\n",
+                    "| %s | %zu | %.4f | %.5f | %.2f [%.2f, %.2f]%s | %.1f | %.3f |\n",
                     t.name.c_str(), n, rms(pos), rms(yaw), a.anees, a.interval.lower,
-                    a.interval.upper, pct, ms);
+                    a.interval.upper, note.empty() ? "" : (" (" + note + ")").c_str(), pct, ms);
       md << line;
       std::printf("%-18s %6zu %9.4f %9.5f %8.2f [%.2f,%.2f] %8.1f %8.2f\n", t.name.c_str(), n,
                   rms(pos), rms(yaw), a.anees, a.interval.lower, a.interval.upper, pct, ms);

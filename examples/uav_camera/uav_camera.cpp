@@ -329,7 +329,7 @@ int main(int argc, char** argv) {
     for (char f : features) with_features += f ? 1 : 0;
     std::ofstream csv(out + "/table.csv");
     csv << "method,frames,localized_pct,pos_rmse_m,yaw_rmse_rad,anees,anees_lo,anees_hi,"
-           "recovery_s,ms_per_frame\n";
+           "recovery_s,ms_per_frame,anees_left_out\n";
     std::ofstream md(out + "/table.md");
     md << "| method | frames | localized % | pos RMSE (m) | yaw RMSE (rad) | ANEES [95 %] | "
           "recovery (s) | ms/frame |\n|---|---|---|---|---|---|---|---|\n";
@@ -365,11 +365,15 @@ int main(int argc, char** argv) {
       for (double r : recovery) recovery_s += r / static_cast<double>(recovery.size());
       if (recovery.empty()) recovery_s = std::nan("");
       double anees = std::nan(""), lo = std::nan(""), hi = std::nan("");
+      std::size_t left_out = with_features;
+      std::string note;  // the frames that see the road the ANEES leaves out, and why
       if (has_cov && !nees_values.empty()) {
         const eval::AneesResult a = eval::anees(nees_values, 3);
         anees = a.anees;
         lo = a.interval.lower;
         hi = a.interval.upper;
+        left_out = with_features - a.count;
+        note = eval::left_out_note(a, with_features, "not localized or without a covariance");
       }
       const double pct = with_features ? 100.0 * localized / with_features : 0.0;
       int counts[5] = {0, 0, 0, 0, 0};
@@ -392,15 +396,16 @@ int main(int argc, char** argv) {
       }
       const double ms = t.ms / flight.size() + mean_front_ms;
       char line[512];
-      std::snprintf(line, sizeof line, "%s,%zu,%.2f,%.4f,%.5f,%.3f,%.3f,%.3f,%.2f,%.3f\n",
+      std::snprintf(line, sizeof line, "%s,%zu,%.2f,%.4f,%.5f,%.3f,%.3f,%.3f,%.2f,%.3f,%zu\n",
                     t.name.c_str(), flight.size(), pct, rms(pos), rms(yaw), anees, lo, hi,
-                    recovery_s, ms);
+                    recovery_s, ms, left_out);
       csv << line;
       std::snprintf(
           line, sizeof line, "| %s | %zu | %.1f | %.4f | %.5f | %s | %s | %.2f |\n", t.name.c_str(),
           flight.size(), pct, rms(pos), rms(yaw),
           has_cov ? (std::to_string(anees).substr(0, 5) + " [" + std::to_string(lo).substr(0, 4) +
-                     ", " + std::to_string(hi).substr(0, 4) + "]")
+                     ", " + std::to_string(hi).substr(0, 4) + "]" +
+                     (note.empty() ? "" : " (" + note + ")"))
                         .c_str()
                   : "—",
           recovery.empty() ? "—" : std::to_string(recovery_s).substr(0, 4).c_str(), ms);

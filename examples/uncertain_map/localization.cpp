@@ -125,6 +125,8 @@ std::vector<LocalizationRow> localize_on_fitted_map(const mapping::UncertainVdtM
       row.anees = a.anees;
       row.anees_lo = a.interval.lower;
       row.anees_hi = a.interval.upper;
+      row.anees_left_out = run.size() - a.count;
+      row.anees_note = eval::left_out_note(a, run.size());
       std::printf(
           "  %-28s position RMSE %.4f m, heading RMSE %.5f rad, ANEES %.2f [%.2f, %.2f]%s\n",
           row.map_model.c_str(), row.pos_rmse, row.ori_rmse, row.anees, row.anees_lo, row.anees_hi,

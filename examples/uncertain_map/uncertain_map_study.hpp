@@ -16,6 +16,8 @@ namespace study {
 struct LocalizationRow {
   std::string map_model;
   double pos_rmse = 0.0, ori_rmse = 0.0, anees = 0.0, anees_lo = 0.0, anees_hi = 0.0;
+  std::size_t anees_left_out = 0;  ///< poses the ANEES leaves out (no covariance, no finite NEES)
+  std::string anees_note;          ///< eval::left_out_note: how many and why; "" for none
 };
 
 /// Drives `drive` through `world` again (a new run of `lidar` with Table 3.2's odometry and range

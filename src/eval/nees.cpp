@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <string>
 #include <vector>
 
 #include "vdtnav/core/error.hpp"
@@ -78,8 +79,9 @@ double nees(const Pose3& estimate, const Pose3& truth, const Matrix6d& covarianc
   // Components the estimator held (zero rows and columns, the 4-DOF mode) are left out.
   std::vector<int> free;
   for (int k = 0; k < 6; ++k)
-    if (covariance.row(k).cwiseAbs().maxCoeff() > 0.0 ||
-        covariance.col(k).cwiseAbs().maxCoeff() > 0.0)
+    if (!std::isnan(covariance(k, k)) &&                   // a NaN diagonal: not estimated
+        ((covariance.row(k).array().abs() > 0.0).any() ||  // NaN entries compare false
+         (covariance.col(k).array().abs() > 0.0).any()))
       free.push_back(k);
   if (dof != nullptr) *dof = static_cast<int>(free.size());
   const Vector6d e = ominus(estimate, truth);
@@ -103,7 +105,7 @@ AneesResult anees(const std::vector<double>& nees_values, int dof, double confid
   double sum = 0.0;
   for (double v : nees_values) {
     if (!std::isfinite(v)) {
-      ++r.skipped_not_finite;
+      ++r.failures;
       continue;
     }
     sum += v;
@@ -112,8 +114,20 @@ AneesResult anees(const std::vector<double>& nees_values, int dof, double confid
   if (r.count == 0) return r;
   r.anees = sum / static_cast<double>(r.count);
   r.interval = anees_interval(r.count, dof, confidence);
-  r.consistent = r.interval.contains(r.anees);
+  r.consistent = r.failures == 0 && r.interval.contains(r.anees);
   return r;
+}
+
+std::string left_out_note(const AneesResult& r, std::size_t poses,
+                          const std::string& why_excluded) {
+  const std::size_t judged = r.count + r.failures;
+  const std::size_t excluded = poses > judged ? poses - judged : 0;
+  if (excluded == 0 && r.failures == 0) return "";
+  std::string note = std::to_string(r.count) + " of " + std::to_string(poses) + " poses:";
+  if (excluded > 0) note += " " + std::to_string(excluded) + " " + why_excluded;
+  if (excluded > 0 && r.failures > 0) note += ",";
+  if (r.failures > 0) note += " " + std::to_string(r.failures) + " no finite NEES";
+  return note;
 }
 
 }  // namespace vdtnav::eval

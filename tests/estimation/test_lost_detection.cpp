@@ -304,6 +304,39 @@ TEST(RecoveringLocalizer, InASymmetricRoomTheLossIsKeptRatherThanATwinGuessed) {
   EXPECT_TRUE(twins);
 }
 
+TEST(RecoveringLocalizer, InASymmetricRoomFewerScansThanTheVerificationNeverMoveTheTrack) {
+  // A right track (at `start`) gets one, then two, scans taken elsewhere (`odd`: they match `odd`
+  // and its twin equally) before its own scans return. In doubt or lost, a candidate found by the
+  // search on an odd scan must be confirmed by the scans after it (verify_scans = 3) like any
+  // other: the track is never moved, to `odd` or to its twin, and never reported converged there.
+  const OccupancyGrid<2> g = test::symmetric_room();
+  const VdtMap2 map = VdtMap2::build(g);
+  const Pose2 start(1.55, 1.25, 0.4), odd(1.0, 3.0, 1.0);
+  const Pose2 odd_twin(5.7 - odd[0], 3.7 - odd[1], wrap_angle(odd[2] + kPi));
+  ASSERT_GT((odd.head<2>() - start.head<2>()).norm(), 1.5);
+  ASSERT_GT((odd_twin.head<2>() - start.head<2>()).norm(), 1.5);
+  RecoveryOptions ro;
+  ASSERT_EQ(ro.verify_scans, 3);
+  for (int odd_scans = 1; odd_scans < ro.verify_scans; ++odd_scans) {
+    RecoveringLocalizer loc(std::make_unique<StuckTracker>(), map, g, GlobalLocalizationOptions{},
+                            ro);
+    loc.reset(start, Eigen::Matrix3d::Identity() * 1e-4);
+    for (int k = 0; k < 10; ++k) (void)loc.update(OdometryStep{}, scan_from(g, start));
+    int candidates = 0;
+    for (int k = 0; k < odd_scans + 15; ++k) {
+      const Pose2& at = k < odd_scans ? odd : start;
+      const LocalizationResult r = loc.update(OdometryStep{}, scan_from(g, at));
+      candidates += r.work.candidates;
+      EXPECT_TRUE(right(r.pose, start))
+          << odd_scans << " odd scans, update " << k << ": moved to " << r.pose.transpose();
+      EXPECT_FALSE(right(r.pose, odd) || right(r.pose, odd_twin)) << odd_scans << ", " << k;
+    }
+    EXPECT_EQ(loc.recoveries(), 0) << odd_scans;
+    // The odd scans were noticed (a search ran, its candidates were weighed) and refused.
+    EXPECT_GE(loc.searches() + candidates, 1) << odd_scans;
+  }
+}
+
 TEST(RecoveringLocalizer, AStuckTrackerIsMovedToWhereTheScansAre) {
   const auto& w = test::world();
   RecoveringLocalizer loc(std::make_unique<StuckTracker>(), w.map, w.plan.occupancy,

@@ -200,12 +200,21 @@ TEST(Nees, AFourDofCovarianceLeavesTheHeldRollAndPitchOut) {
   EXPECT_EQ(dof, 4);
   EXPECT_NEAR(n, e.dot(free.inverse() * e), 1e-9 * n);
   EXPECT_TRUE(std::isfinite(n));
+  // Not estimated (NaN rows and columns, the 4-DOF mode without an attitude sigma): the same.
+  Matrix6d not_estimated = cov;
+  for (int k = 3; k <= 4; ++k) {
+    not_estimated.row(k).setConstant(std::nan(""));
+    not_estimated.col(k).setConstant(std::nan(""));
+  }
+  int dof_nan = 0;
+  EXPECT_EQ(nees(oplus(truth, delta), truth, not_estimated, &dof_nan), n);
+  EXPECT_EQ(dof_nan, 4);
   // A full covariance: all six.
   (void)nees(oplus(truth, delta), truth, Matrix6d::Identity(), &dof);
   EXPECT_EQ(dof, 6);
 }
 
-TEST(Nees, BadCovariancesGiveNanAndAneesSkipsThem) {
+TEST(Nees, BadCovariancesGiveNanAndAneesCountsThemAsFailures) {
   const Eigen::Matrix3d singular = Eigen::Vector3d(1.0, 1.0, 0.0).asDiagonal();
   EXPECT_TRUE(std::isnan(nees<3>(Eigen::Vector3d(1, 1, 1), singular)));
   Eigen::Matrix3d asym = Eigen::Matrix3d::Identity();
@@ -213,9 +222,24 @@ TEST(Nees, BadCovariancesGiveNanAndAneesSkipsThem) {
   EXPECT_TRUE(std::isnan(nees<3>(Eigen::Vector3d(1, 1, 1), asym)));
   const AneesResult r = anees({3.0, std::nan(""), 2.0, INFINITY}, 3);
   EXPECT_EQ(r.count, 2u);
-  EXPECT_EQ(r.skipped_not_finite, 2u);
+  EXPECT_EQ(r.failures, 2u);
   EXPECT_DOUBLE_EQ(r.anees, 2.5);
   EXPECT_FALSE(anees({}, 3).consistent);
+  // The finite values alone are consistent (mean 3 over 1000 values of chi^2(3)'s mean); one
+  // NaN among them (a singular covariance) makes the run inconsistent, and the note says so.
+  std::vector<double> ok(1000, 3.0);
+  EXPECT_TRUE(anees(ok, 3).consistent);
+  EXPECT_EQ(left_out_note(anees(ok, 3), 1000), "");
+  EXPECT_EQ(left_out_note(anees(ok, 3), 1004, "not localized"),
+            "1000 of 1004 poses: 4 not localized");
+  ok.push_back(nees<3>(Eigen::Vector3d(1, 1, 1), singular));
+  const AneesResult with_nan = anees(ok, 3);
+  EXPECT_EQ(with_nan.count, 1000u);
+  EXPECT_EQ(with_nan.failures, 1u);
+  EXPECT_TRUE(with_nan.interval.contains(with_nan.anees));
+  EXPECT_FALSE(with_nan.consistent);
+  EXPECT_EQ(left_out_note(with_nan, 1003),
+            "1000 of 1003 poses: 2 without a covariance, 1 no finite NEES");
 }
 
 }  // namespace

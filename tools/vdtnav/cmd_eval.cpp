@@ -265,17 +265,21 @@ void run_eval(const EvalArgs& a) {
       const eval::AneesResult an = eval::anees(nees_values, 3);
       std::printf(
           "NEES (%s against the reference): ANEES %.3f, 95%% interval [%.3f, %.3f] over %zu "
-          "poses: %s\n",
+          "poses: %s%s%s\n",
           a.cov.c_str(), an.anees, an.interval.lower, an.interval.upper, an.count,
           an.count == 0                  ? "no covariance matched"
+          : an.failures > 0              ? "inconsistent (a covariance gave no finite NEES)"
           : an.consistent                ? "consistent"
           : an.anees > an.interval.upper ? "over-confident"
-                                         : "conservative");
+                                         : "conservative",
+          an.count + an.failures < err_plot.size() || an.failures > 0 ? "; " : "",
+          eval::left_out_note(an, err_plot.size(), "without a covariance").c_str());
       char b[256];
       std::snprintf(b, sizeof b,
-                    ",\n  \"nees\": {\"file\": \"%s\", \"count\": %zu, \"anees\": %.9g, \"lo\": "
-                    "%.9g, \"hi\": %.9g}",
-                    a.cov.c_str(), an.count, an.anees, an.interval.lower, an.interval.upper);
+                    ",\n  \"nees\": {\"file\": \"%s\", \"count\": %zu, \"failures\": %zu, "
+                    "\"anees\": %.9g, \"lo\": %.9g, \"hi\": %.9g}",
+                    a.cov.c_str(), an.count, an.failures, an.anees, an.interval.lower,
+                    an.interval.upper);
       js << b;
     }
     if (!a.plot.empty() && !err_plot.empty()) {

@@ -10,6 +10,7 @@
 
 #include <cstddef>
 #include <limits>
+#include <string>
 #include <vector>
 
 #include <Eigen/Cholesky>
@@ -70,21 +71,31 @@ template <int Dof>
 
 /// \return the NEES of an SE(3) estimate: e = ominus(estimate, truth) = (dt, dtheta), the left
 /// (world-frame) perturbation of pose3.hpp that the 6-DOF covariances are expressed in. The
-/// components whose rows and columns are zero (held by the estimator: roll and pitch in the
-/// 4-DOF mode) are left out; `dof`, if given, receives the number kept (the chi-square's dof).
+/// components whose rows and columns are zero or NaN (held by the estimator and not estimated:
+/// roll and pitch in the 4-DOF mode without an attitude sigma) are left out; `dof`, if given,
+/// receives the number kept (the chi-square's dof).
 [[nodiscard]] double nees(const Pose3& estimate, const Pose3& truth, const Matrix6d& covariance,
                           int* dof = nullptr);
 
 /// \brief The average NEES of a run and its consistency test.
 struct AneesResult {
-  std::size_t count = 0;               ///< finite NEES values averaged
-  std::size_t skipped_not_finite = 0;  ///< NaN/inf values left out (e.g. singular covariances)
-  double anees = 0.0;                  ///< mean of the finite values (0 when count == 0)
-  ChiSquareInterval interval;          ///< anees_interval(count, dof, confidence)
-  /// true when count > 0 and anees lies in the interval: the covariance is consistent at the
-  /// confidence level; below means conservative, above over-confident.
+  std::size_t count = 0;  ///< finite NEES values averaged
+  /// NaN/inf values: a covariance that is singular, not positive definite or not finite. The
+  /// claim failed for those poses: they are left out of the mean, counted here, and any of them
+  /// makes the run inconsistent.
+  std::size_t failures = 0;
+  double anees = 0.0;          ///< mean of the finite values (0 when count == 0)
+  ChiSquareInterval interval;  ///< anees_interval(count, dof, confidence)
+  /// true when count > 0, failures == 0 and anees lies in the interval: the covariance is
+  /// consistent at the confidence level; below means conservative, above over-confident.
   bool consistent = false;
 };
+
+/// \return what a table prints beside an ANEES of a run of `poses` poses: "" when every pose is
+/// in it, else "C of P poses: U <why_excluded>, F no finite NEES" (U = poses the caller left out
+/// before computing a NEES, e.g. "not localized" or "without a covariance"; F = r.failures).
+[[nodiscard]] std::string left_out_note(const AneesResult& r, std::size_t poses,
+                                        const std::string& why_excluded = "without a covariance");
 
 /// \brief ANEES of `nees_values` (each with `dof` degrees of freedom) and its two-sided
 /// chi-square test at `confidence`.
