@@ -15,39 +15,6 @@
 
 namespace vdtnav {
 
-void ekf_update_batch(const std::vector<Eigen::Vector2d>& innovation,
-                      const std::vector<Eigen::Matrix<double, 2, 3>>& h,
-                      const std::vector<Eigen::Matrix2d>& r, Pose2& x, Eigen::Matrix3d& p) {
-  const int n = static_cast<int>(innovation.size());
-  Eigen::MatrixXd hh(2 * n, 3), rr = Eigen::MatrixXd::Zero(2 * n, 2 * n);
-  Eigen::VectorXd nu(2 * n);
-  for (int i = 0; i < n; ++i) {
-    hh.middleRows<2>(2 * i) = h[i];
-    rr.block<2, 2>(2 * i, 2 * i) = r[i];
-    nu.segment<2>(2 * i) = innovation[i];
-  }
-  const Eigen::MatrixXd s = hh * p * hh.transpose() + rr;      // (3.13)
-  const Eigen::MatrixXd k = p * hh.transpose() * s.inverse();  // (3.19), K = P H^T S^-1
-  const Eigen::Vector3d dx = k * nu;                           // (3.20)
-  x = Pose2(x[0] + dx[0], x[1] + dx[1], wrap_angle(x[2] + dx[2]));
-  p = p - k * s * k.transpose();  // (3.21)
-  p = 0.5 * (p + p.transpose());
-}
-
-void ekf_update_information(const std::vector<Eigen::Vector2d>& innovation,
-                            const std::vector<Eigen::Matrix<double, 2, 3>>& h,
-                            const std::vector<Eigen::Matrix2d>& r, Pose2& x, Eigen::Matrix3d& p) {
-  Eigen::Matrix3d info = p.inverse();
-  Eigen::Vector3d b = Eigen::Vector3d::Zero();
-  for (std::size_t i = 0; i < innovation.size(); ++i) {
-    const Eigen::Matrix2d r_inv = r[i].inverse();
-    const Eigen::Matrix<double, 3, 2> ht_rinv = h[i].transpose() * r_inv;
-    info.noalias() += ht_rinv * h[i];
-    b.noalias() += ht_rinv * innovation[i];
-  }
-  ekf_apply_information(info, b, x, p);
-}
-
 void ekf_apply_information(const Eigen::Matrix3d& info, const Eigen::Vector3d& b, Pose2& x,
                            Eigen::Matrix3d& p) {
   p = info.inverse();

@@ -69,20 +69,10 @@ struct VdtEkfOptions {
   bool schmidt_map_errors = false;
 };
 
-/// \brief The batch EKF update with the 2n x 2n innovation covariance (reference for tests).
-void ekf_update_batch(const std::vector<Eigen::Vector2d>& innovation,
-                      const std::vector<Eigen::Matrix<double, 2, 3>>& h,
-                      const std::vector<Eigen::Matrix2d>& r, Pose2& x, Eigen::Matrix3d& p);
-
 /// \brief Closes an information-form update: P+ = info^-1, X+ = X + P+ b, where
 /// info = P^-1 + sum H^T R^-1 H and b = sum H^T R^-1 nu (shared by the VDT and UDT filters).
 void ekf_apply_information(const Eigen::Matrix3d& info, const Eigen::Vector3d& b, Pose2& x,
                            Eigen::Matrix3d& p);
-
-/// \brief The same update in information form, O(n).
-void ekf_update_information(const std::vector<Eigen::Vector2d>& innovation,
-                            const std::vector<Eigen::Matrix<double, 2, 3>>& h,
-                            const std::vector<Eigen::Matrix2d>& r, Pose2& x, Eigen::Matrix3d& p);
 
 /// \brief The VDT EKF localizer. Name "vdt-ekf".
 class VdtEkfLocalizer final : public Localizer2D {
