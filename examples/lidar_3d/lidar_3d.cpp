@@ -8,7 +8,9 @@
 // about --points readings) and goes to two localizers on the same map (one pyramid):
 //   vdt-opt-6dof  VdtOptimizationLocalizer3, the full pose;
 //   vdt-opt-4dof  the same with x, y, z, yaw estimated and roll/pitch held at the IMU's.
-// Map: the generated 3D room (default) or --map FILE (.bt/.ot OctoMap, or a point cloud).
+// Map: the generated 3D room (default) or --map FILE (.bt/.ot OctoMap, or a point cloud). The
+// scans are ray cast in that very voxel grid: simulated scans on the map, which has no error but
+// its quantisation (a map rebuilt from a simulated mapping drive: issue 30's next step).
 // Writes to --out: table.csv (method,scans,pos_rmse_m,att_rmse_rad,anees,anees_lo,anees_hi,
 // lost_pct,ms_per_scan), table.md, trajectory.png (top view), errors.png (errors with +-2 sigma).
 #include <CLI/CLI.hpp>
@@ -275,7 +277,9 @@ int main(int argc, char** argv) {
     csv << "method,scans,pos_rmse_m,att_rmse_rad,anees,anees_lo,anees_hi,lost_pct,ms_per_scan,"
            "anees_left_out\n";
     std::ofstream md(out + "/table.md");
-    md << "# 3D LiDAR localization: a simulated VLP-16 in " << world_name << "\n\n"
+    md << "# 3D LiDAR localization: simulated VLP-16 scans on the " << world_name << " map\n\n"
+       << "The scans are ray cast in the very voxels the map is built from: the map has no error "
+          "but its quantisation.\n\n"
        << truth.size() << " scans at 10 Hz, " << speed << " m/s, about "
        << readings_sum / truth.size() << " readings per scan after " << voxel
        << " m voxel downsampling (of " << vlp16.rings * vlp16.rays_per_ring()
