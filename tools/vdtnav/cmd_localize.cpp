@@ -85,7 +85,8 @@ void run_localize(const LocalizeArgs& a) {
   const std::string traj_path = staged.file(a.out);
   const std::string cov_path = a.cov.empty() ? std::string() : staged.file(a.cov);
   const Eigen::Vector3d sig = parse_sigmas(a.init_sigma, "--init-sigma");
-  const std::set<LocalizationStatus> accepted = parse_statuses(a.accept_status, "--accept-status");
+  const std::set<LocalizationStatus> written_statuses =
+      parse_statuses(a.accept_status, "--accept-status");
   const bool init_global = a.init == "global";
   const std::optional<Pose2> init_arg = a.init.empty() || init_global
                                             ? std::nullopt
@@ -143,12 +144,12 @@ void run_localize(const LocalizeArgs& a) {
       LaserScan scan = log.lasers[idx[first]].scan;
       scan.sigma_range = a.sigma_range;
       const GlobalLocalizationResult r = global.localize(scan_points(scan));
-      const bool accepted = r.result.status == LocalizationStatus::kConverged;
+      const bool here = r.result.status == LocalizationStatus::kConverged;
       std::fprintf(stderr,
                    "[localize] --init global, scan %zu: %s (%.0f %% explained%s) in %.3f s\n",
-                   first, accepted ? "accepted" : "refused", 100.0 * r.explained,
+                   first, here ? "accepted" : "refused", 100.0 * r.explained,
                    r.ambiguous ? ", ambiguous" : "", r.seconds);
-      if (!accepted) {
+      if (!here) {
         rows[first].status = status_token(LocalizationStatus::kRefused);
         rows[first].explained = r.explained;
         continue;
@@ -188,7 +189,7 @@ void run_localize(const LocalizeArgs& a) {
       ++status_count[r.status];
       PoseRow& row = rows[k];
       row.status = status_token(r.status);
-      row.written = a.all_poses || accepted.count(r.status) > 0;
+      row.written = a.all_poses || written_statuses.count(r.status) > 0;
       row.pose = r.pose;
       row.has_pose = true;
       row.explained = r.explained >= 0.0 ? r.explained : std::nan("");
