@@ -328,13 +328,8 @@ void add_localize_command(CLI::App& app) {
                   "Pose table (CSV: t,status,explained,xx,xy,xt,yy,yt,tt): one row per scan of "
                   "the window whatever its status; explained and the covariance nan where not "
                   "measured");
-  cmd->add_flag("--all-poses", args->all_poses,
-                "Write the pose of every scan to --out, whatever its status (the --cov table "
-                "says which)");
-  cmd->add_option("--accept-status", args->accept_status,
-                  "Statuses whose poses --out holds, comma-separated among converged, "
-                  "not_converged, too_few_observations, diverged, refused, lost")
-      ->capture_default_str();
+  add_pose_selection_options(*cmd, args->all_poses, args->accept_status, "--out",
+                             "the --cov table");
   cmd->add_option("--plot", args->plot,
                   "Figure prefix: PREFIX_trajectory.png, PREFIX_scans.png (reprojected scans)");
   cmd->add_option("--odometry", args->odometry,

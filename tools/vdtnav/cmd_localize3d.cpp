@@ -417,13 +417,8 @@ void add_localize3d_command(CLI::App& app) {
   cmd->add_option("--attitude-sigma", args->attitude_sigma,
                   "--dof 4: the standard deviation of the held roll and pitch (from --init), "
                   "radians. Unset: they are not estimated, NaN in the covariance");
-  cmd->add_flag("--all-poses", args->all_poses,
-                "A sequence's trajectory.tum holds the pose of every scan, whatever its status "
-                "(status.csv says which)");
-  cmd->add_option("--accept-status", args->accept_status,
-                  "Statuses whose poses trajectory.tum holds, comma-separated among converged, "
-                  "not_converged, too_few_observations, diverged, refused, lost")
-      ->capture_default_str();
+  add_pose_selection_options(*cmd, args->all_poses, args->accept_status,
+                             "A sequence's trajectory.tum", "status.csv");
   cmd->add_flag("--strict", args->strict, "Exit 3 when a scan of the sequence is lost");
   cmd->add_flag("--quiet", args->quiet, "Less on stderr");
   cmd->add_flag("--print-config", args->print_config,

@@ -80,6 +80,18 @@ std::set<LocalizationStatus> parse_statuses(const std::string& text, const std::
   return out;
 }
 
+void add_pose_selection_options(CLI::App& app, bool& all_poses, std::string& accept_status,
+                                const std::string& trajectory, const std::string& table) {
+  app.add_flag(
+      "--all-poses", all_poses,
+      trajectory + " holds the pose of every scan, whatever its status (" + table + " says which)");
+  app.add_option("--accept-status", accept_status,
+                 "Statuses whose poses " + trajectory +
+                     " holds, comma-separated among converged, not_converged, "
+                     "too_few_observations, diverged, refused, lost")
+      ->capture_default_str();
+}
+
 void TimeWindow::add_options(CLI::App& app) {
   app.add_option("--from", from, "First time used, in the log's time base (seconds)");
   app.add_option("--to", to, "Last time used, in the log's time base (seconds)");

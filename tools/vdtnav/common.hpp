@@ -77,6 +77,11 @@ double apply_no_return_code(CarmenLog& log, const char* tag);
 [[nodiscard]] std::set<LocalizationStatus> parse_statuses(const std::string& text,
                                                           const std::string& what);
 
+/// \brief Adds `--all-poses` and `--accept-status LIST` (default converged) to a subcommand whose
+/// trajectory file is `trajectory` ("--out", "a sequence's trajectory.tum") and pose table `table`.
+void add_pose_selection_options(CLI::App& app, bool& all_poses, std::string& accept_status,
+                                const std::string& trajectory, const std::string& table);
+
 /// \brief Adds each subcommand to the application.
 void add_map_command(CLI::App& app);
 void add_localize_command(CLI::App& app);
