@@ -51,29 +51,40 @@ std::string status_token(LocalizationStatus s) {
   return t;
 }
 
+namespace {
+
+constexpr LocalizationStatus kAllStatuses[] = {LocalizationStatus::kConverged,
+                                               LocalizationStatus::kNotConverged,
+                                               LocalizationStatus::kTooFewObservations,
+                                               LocalizationStatus::kDiverged,
+                                               LocalizationStatus::kRefused,
+                                               LocalizationStatus::kLost};
+
+/// "converged, not_converged, ..., lost": the names parse_statuses() takes.
+std::string status_names() {
+  std::string names;
+  for (LocalizationStatus s : kAllStatuses) names += (names.empty() ? "" : ", ") + status_token(s);
+  return names;
+}
+
+}  // namespace
+
 std::set<LocalizationStatus> parse_statuses(const std::string& text, const std::string& what) {
-  constexpr LocalizationStatus kAll[] = {LocalizationStatus::kConverged,
-                                         LocalizationStatus::kNotConverged,
-                                         LocalizationStatus::kTooFewObservations,
-                                         LocalizationStatus::kDiverged,
-                                         LocalizationStatus::kRefused,
-                                         LocalizationStatus::kLost};
   std::set<LocalizationStatus> out;
   std::size_t begin = 0;
   while (begin <= text.size()) {
     const std::size_t comma = std::min(text.find(',', begin), text.size());
     const std::string name = text.substr(begin, comma - begin);
     bool known = false;
-    for (LocalizationStatus s : kAll) {
+    for (LocalizationStatus s : kAllStatuses) {
       if (status_token(s) == name) {
         out.insert(s);
         known = true;
       }
     }
     if (!known) {
-      throw UsageError(what + ": unknown status '" + name +
-                       "' (expected converged, not_converged, too_few_observations, diverged, "
-                       "refused or lost, comma-separated)");
+      throw UsageError(what + ": unknown status '" + name + "' (expected some of " +
+                       status_names() + ", comma-separated)");
     }
     begin = comma + 1;
   }
@@ -85,10 +96,9 @@ void add_pose_selection_options(CLI::App& app, bool& all_poses, std::string& acc
   app.add_flag(
       "--all-poses", all_poses,
       trajectory + " holds the pose of every scan, whatever its status (" + table + " says which)");
-  app.add_option("--accept-status", accept_status,
-                 "Statuses whose poses " + trajectory +
-                     " holds, comma-separated among converged, not_converged, "
-                     "too_few_observations, diverged, refused, lost")
+  app.add_option(
+         "--accept-status", accept_status,
+         "Statuses whose poses " + trajectory + " holds, comma-separated among " + status_names())
       ->capture_default_str();
 }
 
