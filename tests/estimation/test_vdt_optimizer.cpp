@@ -140,7 +140,10 @@ TEST(VdtOptimizerCovariance, MapErrorsSharedPerSquareAreConsidered) {
 /// covariance, map_pose_sigma = the builder's 2 cm). A builder's pose error moves every wall one
 /// mapping scan saw together, so the squares of the model must span a mapping scan's reach: with
 /// 4 m squares the ANEES is inside the 99 % interval over 200 maps (measured 3.10; 8 m: 3.11;
-/// 2 m, the log default: 4.86; 1 m: 9.17); readings independent: 345.
+/// 2 m, the log default: 4.86; 1 m: 9.17); readings independent: 345. The implicit-function
+/// covariance, the default, is conservative where it has one and refuses one (not converged) on
+/// the maps where its Hessian is not positive definite. (A fallback to Gauss-Newton's there was
+/// tried and dropped: on the UAV study it let solves at saddles through, 0.37 -> 0.43 m.)
 TEST(VdtOptimizerCovariance, MapsRebuiltFromNoisyScansAtNoisyPosesAreConsidered) {
   const auto& plan = world().plan;
   const Pose2 truth = test::tour_pose(7);
@@ -160,9 +163,12 @@ TEST(VdtOptimizerCovariance, MapsRebuiltFromNoisyScansAtNoisyPosesAreConsidered)
   squares.sensor.map_pose_sigma = builder_sigma;
   VdtOptimizerOptions independent = squares;
   independent.sensor.map_correlation_length = 0.0;
+  VdtOptimizerOptions implicit = squares;  // the default covariance method
+  implicit.covariance = CovarianceMethod::kImplicitFunction;
   std::mt19937 rng(11);
   std::normal_distribution<double> n01(0.0, 1.0);
-  std::vector<double> nees_squares, nees_independent;
+  std::vector<double> nees_squares, nees_independent, nees_implicit;
+  int implicit_without = 0;
   for (int trial = 0; trial < 200; ++trial) {
     mapping::OccupancyMapper mapper(plan.occupancy.frame(), plan.occupancy.size());
     for (const Pose2& p : mapping_poses) {
@@ -175,6 +181,16 @@ TEST(VdtOptimizerCovariance, MapsRebuiltFromNoisyScansAtNoisyPosesAreConsidered)
     const ScanPoints scan = scan_points(test::simulate_scan(truth, 0.02, rng));
     const LocalizationResult r = VdtOptimizer(map, squares).solve(scan, truth);
     const LocalizationResult ri = VdtOptimizer(map, independent).solve(scan, truth);
+    const LocalizationResult rf = VdtOptimizer(map, implicit).solve(scan, truth);
+    // The implicit-function covariance's full Hessian (3.6) is not positive definite on a few of
+    // these maps (the ragged walls' curvature at the endpoints): then the solve says so, not
+    // converged and no covariance, rather than report one that is not a minimum's.
+    if (rf.has_covariance) {
+      nees_implicit.push_back(eval::nees(rf.pose, truth, rf.covariance));
+    } else {
+      EXPECT_EQ(rf.status, LocalizationStatus::kNotConverged) << trial;
+      ++implicit_without;
+    }
     // Every solve has a covariance (a few stop at the iteration limit, not converged: their pose
     // and covariance are what the user gets, so they count).
     ASSERT_TRUE(r.has_covariance && ri.has_covariance) << trial;
@@ -184,11 +200,19 @@ TEST(VdtOptimizerCovariance, MapsRebuiltFromNoisyScansAtNoisyPosesAreConsidered)
   }
   const eval::AneesResult a = eval::anees(nees_squares, 3, 0.99);
   const eval::AneesResult ai = eval::anees(nees_independent, 3, 0.99);
-  std::printf("rebuilt maps: ANEES %.2f in [%.2f, %.2f] (4 m squares), %.1f (independent)\n",
-              a.anees, a.interval.lower, a.interval.upper, ai.anees);
+  const eval::AneesResult af = eval::anees(nees_implicit, 3, 0.99);
+  std::printf(
+      "rebuilt maps: ANEES %.2f in [%.2f, %.2f] (4 m squares), %.1f (independent), "
+      "%.2f (implicit function; %d without a covariance)\n",
+      a.anees, a.interval.lower, a.interval.upper, ai.anees, af.anees, implicit_without);
   EXPECT_TRUE(a.consistent) << a.anees << " outside [" << a.interval.lower << ", "
                             << a.interval.upper << "]";
   EXPECT_GT(ai.anees, 10.0 * ai.interval.upper);
+  // The implicit-function covariance (the default) counts the map's curvature at the endpoints,
+  // which these maps' ragged walls make large: where it has one it is not over-confident
+  // (conservative), and it lacks one on at most 5 % of the maps.
+  EXPECT_LE(af.anees, af.interval.upper);
+  EXPECT_LE(implicit_without, 10);
 }
 
 /// The robust cost sum_i rho(|d_i|^2) over the gated readings at `pose`, with rho as Ceres
