@@ -41,7 +41,7 @@ step "[7/20] Active localization with one rotating range beam (thesis ch. 4, gen
 step "[8/20] Never lost: global localization from one scan (branch and bound vs random sampling) and the kidnapped robot (generated floor plan)"
 "$bin/kidnapped/vdtnav_kidnapped" --out "$out/kidnapped"
 if [ -x "$bin/lidar_3d/vdtnav_lidar_3d" ]; then
-  step "[9/20] 3D LiDAR: simulated VLP-16 scans on the generated 3D room (ray cast in its own voxels), 6-DOF and 4-DOF"
+  step "[9/20] 3D LiDAR: simulated VLP-16 scans on the generated 3D room (ray cast in its own voxels) and on the room rebuilt by map3d from a noisy mapping drive, 6-DOF and 4-DOF"
   "$bin/lidar_3d/vdtnav_lidar_3d" --out "$out/lidar_3d"
 fi
 if [ -d "$data" ]; then
@@ -61,7 +61,7 @@ if [ -d "$data" ]; then
       --out "$out/pan_tilt_3d_catec"
   fi
   if [ -f "$data/3d/dll-catec/catec.bt" ] && [ -x "$bin/lidar_3d/vdtnav_lidar_3d" ]; then
-    step "[15/20] 3D LiDAR: simulated VLP-16 scans on the real CATEC OctoMap (ray cast in its own voxels)"
+    step "[15/20] 3D LiDAR: simulated VLP-16 scans on the real CATEC OctoMap (ray cast in its own voxels) and on CATEC rebuilt by map3d from a noisy mapping drive (3 min)"
     "$bin/lidar_3d/vdtnav_lidar_3d" --map "$data/3d/dll-catec/catec.bt" --out "$out/lidar_3d_catec"
   fi
   if [ -f "$data/vision/aerial/aero1.jpg" ] && [ -x "$bin/uav_camera/vdtnav_uav_camera" ]; then

@@ -33,7 +33,7 @@ TEST(MultiStart, ScoresAreZeroAtTheTruthOfAConsistentCloudAndGrowOffIt) {
   EXPECT_GT(truncated_vcd(opt.sensor_model(), cloud, wrong, 0.25), 0.01 * cloud.size());
 }
 
-TEST(MultiStart, SparseCloudsFromScenarioCSucceedAtLeastAsOftenAsOneSolve) {
+TEST(MultiStart, SparseCloudsFromScenarioCReachTheTargetAndFitAtLeastAsWellAsOneSolve) {
   const VdtOptimizer3 opt(world3().map);
   MultiStartOptions single;
   single.enabled = false;
@@ -54,16 +54,24 @@ TEST(MultiStart, SparseCloudsFromScenarioCSucceedAtLeastAsOftenAsOneSolve) {
           return (r.pose.translation() - truth.translation()).norm() < 0.1 &&
                  attitude_error(r.pose, truth) < 0.05;
         };
-        ok_single += success(solve_multi_start(opt, cloud, guess, single));
-        ok_multi += success(solve_multi_start(opt, cloud, guess, multi));
+        const LocalizationResult3 rs = solve_multi_start(opt, cloud, guess, single);
+        const LocalizationResult3 rm = solve_multi_start(opt, cloud, guess, multi);
+        // Where the two differ, the multi-start's pose fits the readings at least as well (its
+        // rule): with ~50 readings a pose 0.45 m off can fit them better than the truth does.
+        EXPECT_LE(truncated_vcd(opt.sensor_model(), cloud, rm.pose, multi.truncation),
+                  truncated_vcd(opt.sensor_model(), cloud, rs.pose, multi.truncation) + 1e-9)
+            << "pose " << k << ", seed " << seed << ", sign " << sign;
+        ok_single += success(rs);
+        ok_multi += success(rm);
         ++trials;
       }
     }
   }
   std::printf("scenario C, ~50 readings: single solve %d / %d, multi-start %d / %d\n", ok_single,
               trials, ok_multi, trials);
-  EXPECT_GE(ok_multi, ok_single);
-  EXPECT_GE(ok_multi * 100, 95 * trials);  // Table 3.4's target: 95 % success
+  // Table 3.4's target: 95 % success. (Not "at least as often as one solve": 2 of the 48 clouds
+  // fit a pose 0.45 m off better than the one solve's right pose, 1 the other way round.)
+  EXPECT_GE(ok_multi * 100, 95 * trials);
 }
 
 TEST(MultiStart, TheAttitudeGridReachesGuessesTheAxisStartsDoNot) {

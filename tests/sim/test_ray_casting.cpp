@@ -73,5 +73,35 @@ TEST(RayCasting, AgreesWithAFineRayMarch2D) {
 }
 TEST(RayCasting, AgreesWithAFineRayMarch3D) { agrees_with_fine_march<3>(0.0); }
 
+TEST(RayCasting, A3dCellCentreHitIsOnTheSurfaceOrAMiss) {
+  // A floor of 0.1 m voxels (layer k = 5, z in [0.5, 0.6): its surface the plane z = 0.55 through
+  // the centres) that ends at x = 20 m, and rays onto it from 5 cm above at grazing elevations.
+  // Where the floor goes on, the hit is on the plane (0.05 / sin(elevation) along). Where the ray
+  // would reach the plane only past the floor's end it has missed the floor: no hit in the free
+  // space beyond (half a voxel / sin(elevation) past the face, metres, before the fix).
+  OccupancyGrid<3> g(Eigen::Vector3i(400, 40, 20), GridFrame<3>(0.1, Eigen::Vector3d::Zero()), 0);
+  for (int i = 0; i < 200; ++i)
+    for (int j = 0; j < 40; ++j) g(Eigen::Vector3i(i, j, 5)) = 1;
+  int on_plane = 0, missed = 0;
+  for (const double x0 : {0.55, 19.75, 19.95}) {
+    const Eigen::Vector3d o(x0, 2.05, 0.65);
+    for (const double elevation : {1.5, 1.0, 0.5, 0.2, 0.05, 0.01, 0.002}) {
+      const Eigen::Vector3d d(std::cos(elevation), 0.0, -std::sin(elevation));
+      const double t = cast_ray<3>(g, o, d, 100.0, RaySurface::kCellCentre);
+      const double along = 0.1 / std::tan(elevation);  // x travelled down to z = 0.55
+      if (x0 + along < 20.0) {
+        ASSERT_TRUE(std::isfinite(t)) << x0 << " " << elevation;
+        EXPECT_NEAR((o + t * d).z(), 0.55, 1e-9) << x0 << " " << elevation;
+        ++on_plane;
+      } else {
+        EXPECT_TRUE(std::isinf(t)) << x0 << " " << elevation << ": hit at " << (o + t * d).x();
+        ++missed;
+      }
+    }
+  }
+  EXPECT_GE(on_plane, 10);
+  EXPECT_GE(missed, 5);
+}
+
 }  // namespace
 }  // namespace vdtnav::sim

@@ -274,6 +274,37 @@ TEST(Cli3d, AMapThatExplainsNoScanExits3WithAnEmptyTrajectory) {
   EXPECT_EQ(load_tum_trajectory((out / "trajectory.tum").string()).poses.size(), 3u);
 }
 
+TEST(Cli3d, Map3dThinsANoisyWallUnlessToldNot) {
+  // A wall drawn from noisy points (3 cm across 0.1 m voxels, as a map of scans): map3d keeps
+  // the one layer its plane crosses, --no-thin-surfaces every voxel with a point.
+  const Fixture& f = fixture();
+  const fs::path cloud = f.dir / "noisy_wall.xyz";
+  {
+    std::mt19937 rng(8);
+    std::uniform_real_distribution<double> u(0.0, 4.0);
+    std::normal_distribution<double> n(0.0, 0.03);
+    std::ofstream out(cloud);
+    for (int k = 0; k < 40000; ++k) out << 2.03 + n(rng) << " " << u(rng) << " " << u(rng) << "\n";
+  }
+  const auto occupied = [&](const std::string& flag) {
+    const fs::path log = f.dir / ("map3d_thin" + flag + ".log");
+    EXPECT_EQ(run_cli("map3d --map " + cloud.string() + " --out " +
+                          (f.dir / ("wall" + flag + ".vdt")).string() + " " + flag,
+                      log),
+              0)
+        << read_all(log);
+    const std::string text = read_all(log);
+    const std::size_t at = text.find(" occupied voxels");
+    EXPECT_NE(at, std::string::npos) << text;
+    const std::size_t from = text.rfind(' ', at - 1) + 1;
+    return std::stol(text.substr(from, at - from));
+  };
+  // The wall crosses 40 x 40 voxels of one layer (x = 2.03 lies inside [2.0, 2.1)).
+  const long thin = occupied(""), thick = occupied("--no-thin-surfaces");
+  EXPECT_NEAR(thin, 1600, 100);
+  EXPECT_GT(thick, 2 * 1600);
+}
+
 TEST(Cli3d, ASparseMapFileGivesTheDenseMapsPose) {
   // map3d --out X.svdt: bricks near the surfaces, no dense grid; localize3d memory-maps it. Near
   // the truth (the sparse map has no coarse levels) it must land where the dense map does.

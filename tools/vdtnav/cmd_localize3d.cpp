@@ -389,6 +389,10 @@ void add_localize3d_command(CLI::App& app) {
                 "Build a sparse map from a cloud or octree (bricks near the surfaces, no dense "
                 "grid: building-sized maps; no coarse levels, so a poor guess needs "
                 "--multi-start). A .svdt map is sparse anyway");
+  cmd->add_flag("--thin-surfaces,!--no-thin-surfaces", args->map_options.thin_surfaces,
+                "Clouds: thin each wall to the voxels its surface crosses (default), or keep every "
+                "voxel with a point (a slab as thick as the points' scatter, in which a scan "
+                "slides)");
   cmd->add_option("--crop", args->crop,
                   "Keep only the map cloud's points in the box xmin,ymin,zmin,xmax,ymax,zmax");
   cmd->add_option("--voxel", args->voxel,

@@ -64,6 +64,10 @@ void add_map3d_command(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--crop", args->crop,
                   "Keep only the cloud's points in the box xmin,ymin,zmin,xmax,ymax,zmax (metres)");
+  cmd->add_flag("--thin-surfaces,!--no-thin-surfaces", args->options.thin_surfaces,
+                "Clouds: thin each wall to the voxels its surface crosses (default), or keep every "
+                "voxel with a point (a slab as thick as the points' scatter, in which a scan "
+                "slides)");
   cmd->add_flag("--quiet", args->options.quiet, "Only the result line");
   cmd->callback([args] { run_map3d(*args); });
 }

@@ -109,6 +109,7 @@ Map3d load_map3d(const std::string& path, const Map3dOptions& options) {
     PointCloudOccupancyOptions o;
     o.resolution = options.resolution > 0.0 ? options.resolution : 0.1;
     o.margin = options.margin;
+    o.thin_surfaces = options.thin_surfaces;
     if (options.sparse) {
       if (!options.quiet)
         std::fprintf(stderr, "[map3d] %zu points read, %zu kept\n", read, cloud.size());

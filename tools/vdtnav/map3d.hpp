@@ -32,6 +32,8 @@ struct Map3dOptions {
   double margin = 1.0;  ///< free border around a cloud's or an octree's occupied space, metres
   std::optional<CropBox> crop;  ///< clouds only: the points kept
   bool sparse = false;          ///< clouds and octrees: build a SparseVdtMap3
+  /// Clouds only: thin walls to their surfaces (PointCloudOccupancyOptions::thin_surfaces).
+  bool thin_surfaces = true;
   bool quiet = false;
 };
 

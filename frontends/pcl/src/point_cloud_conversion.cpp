@@ -29,8 +29,9 @@ SparseVdtMap3 sparse_vdt_map_from_point_cloud(const pcl::PointCloud<pcl::PointXY
   const detail::PointSource source{"sparse_vdt_map_from_point_cloud", false};
   const detail::CloudLattice l =
       detail::cloud_lattice(cloud.size(), point_at, options, source, 1e12);
-  return SparseVdtMap3::build(detail::occupied_voxels(cloud.size(), point_at, l), l.frame, l.size,
-                              map_options);
+  return SparseVdtMap3::build(
+      detail::occupied_voxels(cloud.size(), point_at, l, options.thin_surfaces), l.frame, l.size,
+      map_options);
 }
 
 }  // namespace vdtnav

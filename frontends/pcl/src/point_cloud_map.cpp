@@ -27,8 +27,9 @@ SparseVdtMap3 load_point_cloud_sparse_map(const std::string& path,
   const detail::PointAccessor point_at(raw.cloud, path);
   const detail::CloudLattice l =
       detail::cloud_lattice(point_at.size(), point_at, options, source, 1e12);
-  return SparseVdtMap3::build(detail::occupied_voxels(point_at.size(), point_at, l), l.frame,
-                              l.size, map_options);
+  return SparseVdtMap3::build(
+      detail::occupied_voxels(point_at.size(), point_at, l, options.thin_surfaces), l.frame, l.size,
+      map_options);
 }
 
 }  // namespace vdtnav

@@ -14,6 +14,7 @@
 
 #include <Eigen/Core>
 
+#include "thin_surfaces.hpp"
 #include "vdtnav/core/error.hpp"
 #include "vdtnav/pcl/point_cloud_map.hpp"
 
@@ -132,13 +133,28 @@ PointCloudOccupancy voxelize_points(std::size_t n, const PointAt& point_at,
     out.num_occupied += (v == 0);
     v = 1;
   }
+  if (options.thin_surfaces) {
+    std::vector<Eigen::Vector3i> occupied;
+    occupied.reserve(out.num_occupied);
+    for (int z = 0; z < l.size.z(); ++z)
+      for (int y = 0; y < l.size.y(); ++y)
+        for (int x = 0; x < l.size.x(); ++x)
+          if (out.occupancy(Eigen::Vector3i(x, y, z))) occupied.emplace_back(x, y, z);
+    const std::vector<bool> keep = surface_voxels(
+        occupied, l.frame, n, point_at, [&](const Eigen::Vector3d& p) { return voxel_of(l, p); });
+    for (std::size_t i = 0; i < occupied.size(); ++i) {
+      if (keep[i]) continue;
+      out.occupancy(occupied[i]) = 0;
+      --out.num_occupied;
+    }
+  }
   return out;
 }
 
 /// The occupied voxels of a cloud as a list (no dense grid): for sparse maps.
 template <typename PointAt>
 std::vector<Eigen::Vector3i> occupied_voxels(std::size_t n, const PointAt& point_at,
-                                             const CloudLattice& l) {
+                                             const CloudLattice& l, bool thin_surfaces) {
   std::vector<Eigen::Vector3i> v;
   v.reserve(n);
   for (std::size_t k = 0; k < n; ++k) {
@@ -150,7 +166,14 @@ std::vector<Eigen::Vector3i> occupied_voxels(std::size_t n, const PointAt& point
   };
   std::sort(v.begin(), v.end(), less);
   v.erase(std::unique(v.begin(), v.end()), v.end());
-  return v;
+  if (!thin_surfaces) return v;
+  const std::vector<bool> keep = surface_voxels(
+      v, l.frame, n, point_at, [&](const Eigen::Vector3d& p) { return voxel_of(l, p); });
+  std::vector<Eigen::Vector3i> kept;
+  kept.reserve(v.size());
+  for (std::size_t i = 0; i < v.size(); ++i)
+    if (keep[i]) kept.push_back(v[i]);
+  return kept;
 }
 
 }  // namespace vdtnav::detail

@@ -53,7 +53,11 @@ enum class RaySurface {
   /// Thin walls through the cell centres, where the VDT (DT_v = p - c(p)) is zero, so that the
   /// map and the simulated world agree. In 2D the surface is exact: the segments joining the
   /// centres of 4-adjacent occupied cells (a '+' through an isolated cell). In 3D the ray stops
-  /// half a cell past the face it entered through.
+  /// on the plane through the entered cell's centre parallel to the face it entered through, if
+  /// it gets there through occupied cells; a ray that leaves the occupied cells first (grazing the
+  /// edge of a wall, a box's top) has missed the surface and goes on. (Stopping on the plane
+  /// regardless put such rays' points up to metres past the edge, in free space: 8 of 9.4 M
+  /// points of a CATEC mapping drive tens of metres away, a fifth of its voxels off the map.)
   kCellCentre,
 };
 
@@ -103,8 +107,23 @@ template <int Dim>
         if (hit <= max_range) return hit;
         if (!std::isinf(hit)) return kInf;
       } else {
-        const double hit = t + 0.5 * t_delta[entered];
-        return hit <= max_range ? hit : kInf;
+        const double plane = t + 0.5 * t_delta[entered];
+        if (plane > max_range) return kInf;
+        // Through the occupied cells up to the plane, or out of them first (a miss).
+        bool inside = true;
+        while (inside) {
+          int axis = 0;
+          for (int d = 1; d < Dim; ++d)
+            if (t_max[d] < t_max[axis]) axis = d;
+          if (t_max[axis] >= plane) return plane;
+          t = t_max[axis];
+          t_max[axis] += t_delta[axis];
+          cell[axis] += step[axis];
+          entered = axis;
+          if (!grid.contains(cell)) return plane;  // the solid goes on past the grid's edge
+          inside = grid(cell) != 0;
+        }
+        continue;  // in a free cell: march on
       }
     }
     int axis = 0;

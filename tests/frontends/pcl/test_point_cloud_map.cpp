@@ -191,6 +191,7 @@ TEST(PointCloudMap, InMemoryCloudVoxelsMarginsAndDroppedPoints) {
     PointCloudOccupancyOptions o;
     o.resolution = res;
     o.margin = 0.5;
+    o.thin_surfaces = false;  // the voxelization rule itself (the thinning: test_thin_surfaces)
     const PointCloudOccupancy occ = occupancy_from_point_cloud(cloud, o);
     EXPECT_EQ(occ.num_dropped, kNonFinite);
     EXPECT_EQ(occupied_set(occ.occupancy), voxelize(cloud, res)) << res;

@@ -19,6 +19,12 @@ namespace vdtnav {
 struct PointCloudOccupancyOptions {
   double resolution = 0.05;  ///< voxel edge, metres (finite, > 0)
   double margin = 0.0;       ///< free border around the cloud's bounding box, metres (finite, >= 0)
+  /// Thin the walls to their surfaces: a map drawn from scans holds a wall as a slab a few voxels
+  /// thick (range noise, the map builder's pose error), inside which the VDT is zero and a scan
+  /// slides freely. Where the points around a voxel lie on a plane thinner than a voxel, only the
+  /// voxels that plane crosses stay occupied (src/thin_surfaces.hpp); edges, corners and clutter
+  /// stay as voxelized. Off: every voxel with a point is occupied.
+  bool thin_surfaces = true;
 };
 
 /// \brief A voxelized point cloud and what happened to its points.
