@@ -33,7 +33,7 @@ scripts/setup.sh asan
 # code paths run here through the shorter tests of the same classes.
 asan_skip='BuildOccupancyMap\.ReproducesTheSimulatorsFloorPlan|Covariance\..*MonteCarlo'
 asan_skip+='|Kidnapped\.|VdtLocalizer3\.ATeleport|GlobalLocalization\.BestLeafIsTheExhaustive'
-asan_skip+='|RecoveringLocalizer\.APlaceTheMapLacks|CliRealLogs\.|Covariance\.MapsRebuiltFromNoisyScans'
+asan_skip+='|RecoveringLocalizer\.APlaceTheMapLacks|CliRealLogs\.|\.MapsRebuiltFromNoisyScans'
 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
   ctest --test-dir build/asan --output-on-failure -j "$jobs" -E "$asan_skip"
 

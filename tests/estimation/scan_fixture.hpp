@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "vdtnav/map/vdt_map.hpp"
+#include "vdtnav/mapping/occupancy_mapper.hpp"
 #include "vdtnav/sensor/laser_scan.hpp"
 #include "vdtnav/sim/floor_plan.hpp"
 #include "vdtnav/sim/ray_casting.hpp"
@@ -26,7 +27,32 @@ inline const World& world() {
 
 /// A UTM-30LX-like scan (270 degrees, `beams` beams) from `pose`, range noise sigma (0: none).
 inline LaserScan simulate_scan(const Pose2& pose, double sigma, std::mt19937& rng,
-                               int beams = 1081) {
+                               int beams = 1081);
+
+/// The map a user would have of the plan around tour_pose(7), made as a user's is: mapping::
+/// OccupancyMapper over 35 scans (range noise 0.02 m) along the tour's legs 4-10, each
+/// registered at its pose moved by the map builder's error, N(0, sigma^2) per axis and
+/// N(0, heading_sigma^2) in heading. Errors the estimators' models do not draw.
+inline VdtMap2 rebuilt_map(double sigma, double heading_sigma, std::mt19937& rng) {
+  const sim::FloorPlan& plan = world().plan;
+  std::normal_distribution<double> n01(0.0, 1.0);
+  mapping::OccupancyMapper mapper(plan.occupancy.frame(), plan.occupancy.size());
+  for (std::size_t k = 4; k <= 10; ++k) {
+    const Eigen::Vector2d a = plan.tour[k % plan.tour.size()],
+                          b = plan.tour[(k + 1) % plan.tour.size()];
+    for (int s = 0; s < 5; ++s) {
+      const Eigen::Vector2d p = a + 0.2 * s * (b - a);
+      const Pose2 pose(p.x(), p.y(), std::atan2(b.y() - a.y(), b.x() - a.x()));
+      const LaserScan scan = simulate_scan(pose, 0.02, rng);
+      mapper.insert(Pose2(pose[0] + sigma * n01(rng), pose[1] + sigma * n01(rng),
+                          pose[2] + heading_sigma * n01(rng)),
+                    scan);
+    }
+  }
+  return VdtMap2::build(mapper.occupancy());
+}
+
+inline LaserScan simulate_scan(const Pose2& pose, double sigma, std::mt19937& rng, int beams) {
   LaserScan scan;
   scan.angle_min = -0.75 * M_PI;
   scan.angle_increment = 1.5 * M_PI / (beams - 1);
