@@ -110,12 +110,16 @@ TEST(VdtLocalizer3, TracksAVlp16DriveWithAConsistentCovarianceInBothModes) {
   EXPECT_LT(max_att6, 0.01);
   // Roll and pitch held at the IMU's (sigma 0.005 rad): 3 cm at 6 m, through x, y, z.
   EXPECT_LT(max_pos4, 0.08);
-  // Successive scans' errors are correlated (the same room, a slowly moving pose): the test is
-  // the 99 % interval's upper end, doubled; a covariance 10x too small fails it (without the
-  // map's correlated errors, map_correlation_length 0, the 6-DOF ANEES is 17.9).
-  EXPECT_LT(a6.anees, 2.0 * a6.interval.upper);
-  EXPECT_LT(a4.anees, 2.0 * a4.interval.upper);
-  EXPECT_GT(a6.anees, 0.2);
+  // Not over-confident: the 99 % interval's upper end, as claimed (the map's correlated errors
+  // off, map_correlation_length 0, the 6-DOF ANEES is 16.0; 1.5x over-confident fails). The
+  // scans are cast in the map's own voxels, so its only error is the cell-centre surfaces'
+  // quantisation, correlated over ~0.5 m here (cubes of 0.5 m: 5.56, inside; 0.3 m: 7.57): the
+  // default 1 m cubes, sized for maps built from scans, are conservative on it, measured 3.11
+  // (6-DOF) and 4.07 (4-DOF) - below the interval, held here to within 2.5x of the dimension.
+  EXPECT_LE(a6.anees, a6.interval.upper);
+  EXPECT_LE(a4.anees, a4.interval.upper);
+  EXPECT_GT(a6.anees, 6.0 / 2.5);
+  EXPECT_GT(a4.anees, 6.0 / 2.5);
 }
 
 TEST(VdtLocalizer3, FourDofWithoutAnImuGivesTheHeldAttitudeNoInventedVariance) {
