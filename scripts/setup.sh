@@ -12,7 +12,9 @@ config="${1:-release}"
 packages=(build-essential cmake pkg-config git
           libeigen3-dev libyaml-cpp-dev libstb-dev zlib1g-dev
           libgtest-dev libgmock-dev libbenchmark-dev libopencv-dev libcli11-dev libceres-dev
-          libpcl-dev liboctomap-dev)
+          libpcl-dev liboctomap-dev
+          librosbag-storage-dev libtf2-dev libsensor-msgs-dev libnav-msgs-dev libgeometry-msgs-dev
+          libtf2-msgs-dev libfastcdr-dev libsqlite3-dev)
 if [ "$config" = fuzz ]; then packages+=(clang-14 libclang-rt-14-dev); fi
 
 missing=()

@@ -1,5 +1,5 @@
 # cmake -DBUILD_DIR=... -DWORK_DIR=... -DCONSUMER_DIR=... [-DCONSUME_PCL=ON] [-DCONSUME_OCTOMAP=ON]
-#       [-DCONSUME_UAV_CAMERA=ON] [-DCONSUME_RGBD_GROUND=ON]
+#       [-DCONSUME_UAV_CAMERA=ON] [-DCONSUME_RGBD_GROUND=ON] [-DCONSUME_ROS=ON]
 #       -P install_and_consume.cmake
 # CONSUME_<FRONTEND>: also build and run the consumer of that front end (only when it was built).
 if(NOT DEFINED CONSUME_PCL)
@@ -14,6 +14,9 @@ endif()
 if(NOT DEFINED CONSUME_RGBD_GROUND)
   set(CONSUME_RGBD_GROUND OFF)
 endif()
+if(NOT DEFINED CONSUME_ROS)
+  set(CONSUME_ROS OFF)
+endif()
 file(REMOVE_RECURSE ${WORK_DIR})
 set(prefix ${WORK_DIR}/prefix)
 function(run)
@@ -27,7 +30,7 @@ run(${CMAKE_COMMAND} -S ${CONSUMER_DIR} -B ${WORK_DIR}/consumer -DCMAKE_PREFIX_P
     -DCMAKE_BUILD_TYPE=${CMAKE_BUILD_TYPE}
     -DVDTNAV_CONSUME_PCL=${CONSUME_PCL} -DVDTNAV_CONSUME_OCTOMAP=${CONSUME_OCTOMAP}
     -DVDTNAV_CONSUME_UAV_CAMERA=${CONSUME_UAV_CAMERA}
-    -DVDTNAV_CONSUME_RGBD_GROUND=${CONSUME_RGBD_GROUND})
+    -DVDTNAV_CONSUME_RGBD_GROUND=${CONSUME_RGBD_GROUND} -DVDTNAV_CONSUME_ROS=${CONSUME_ROS})
 run(${CMAKE_COMMAND} --build ${WORK_DIR}/consumer)
 run(${WORK_DIR}/consumer/consumer_core)
 run(${WORK_DIR}/consumer/consumer_io ${WORK_DIR}/roundtrip.vdtmap)
@@ -43,6 +46,9 @@ if(CONSUME_UAV_CAMERA)
 endif()
 if(CONSUME_RGBD_GROUND)
   run(${WORK_DIR}/consumer/consumer_rgbd_ground)
+endif()
+if(CONSUME_ROS)
+  run(${WORK_DIR}/consumer/consumer_ros ${WORK_DIR}/not_a_bag.bag)
 endif()
 # A component that does not exist must make a REQUIRED find fail.
 execute_process(COMMAND ${CMAKE_COMMAND} -S ${CONSUMER_DIR} -B ${WORK_DIR}/consumer_bad

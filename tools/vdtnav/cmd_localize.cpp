@@ -22,6 +22,10 @@
 #include "vdtnav/estimation/localizer_factory.hpp"
 #include "vdtnav/io/log_odometry.hpp"
 #include "vdtnav/io/tum_trajectory.hpp"
+#ifdef VDTNAV_CLI_ROS
+#include "vdtnav/ros/bag_reader.hpp"
+#include "vdtnav/ros/scan_sequence.hpp"
+#endif
 
 namespace vdtnav::tools {
 
@@ -32,7 +36,7 @@ namespace {
 constexpr double kMinLocalizedFraction = 0.10;
 
 struct LocalizeArgs {
-  std::string map, log, method = "vdt-opt", init, init_sigma = "0.1,0.1,0.05", out, cov, plot;
+  std::string map, log, bag, method = "vdt-opt", init, init_sigma = "0.1,0.1,0.05", out, cov, plot;
   std::string odometry = "auto";
   std::string time_base = "logger";
   std::string config;
@@ -47,7 +51,91 @@ struct LocalizeArgs {
   bool recover = false, no_recover = false;
   bool all_poses = false;
   std::string accept_status = "converged";
+  // --bag: which topics and frames (vdtnav/ros/scan_sequence.hpp)
+  std::string scan_topic, odom_topic, odom_frame = "odom", base_frame = "base_link", laser_pose;
 };
+
+/// The scans to localize, from a CARMEN log or a bag: stamps, scans, odometry at each, and the
+/// pose of the first when the input knows one (a CARMEN log's corrected pose).
+struct ScanRun {
+  std::string input;  // the --log or --bag path
+  std::vector<double> times;
+  std::vector<LaserScan> scans;
+  std::vector<Pose2> odometry;
+  std::optional<Pose2> first_pose;
+};
+
+ScanRun read_log_run(const LocalizeArgs& a) {
+  CarmenLogOptions lo;
+  lo.max_range = a.max_range;
+  lo.skip_malformed = a.skip_malformed;
+  CarmenLog log = load_log(a.log, lo, a.time_base);
+  if (!a.max_range_given) apply_no_return_code(log, "localize");
+  const std::vector<std::size_t> idx = scans_in(log, a.window);
+  if (idx.empty()) {
+    throw UsageError(a.log + ": no laser message in the time window (the log has " +
+                     std::to_string(log.lasers.size()) + " scans)");
+  }
+  LogOdometry odom = log_odometry(log, idx);
+  if (a.odometry == "laser" && odom.source != LogOdometrySource::kLaserOdomFields) {
+    odom.source = LogOdometrySource::kLaserOdomFields;
+    odom.reason = "--odometry laser";
+    odom.poses.clear();
+    for (std::size_t i : idx) odom.poses.push_back(log.lasers[i].odom);
+  } else if (a.odometry == "odom" && odom.source != LogOdometrySource::kOdomMessages) {
+    throw ConfigError(a.log + ": --odometry odom, but the ODOM lines are unusable: " + odom.reason);
+  }
+  std::fprintf(stderr, "[localize] %zu scans, odometry from %s%s%s\n", idx.size(),
+               odom.source == LogOdometrySource::kOdomMessages ? "ODOM lines"
+                                                               : "the laser messages' odom fields",
+               odom.reason.empty() ? "" : " (ODOM lines unusable: ",
+               odom.reason.empty() ? "" : (odom.reason + ")").c_str());
+  ScanRun run;
+  run.input = a.log;
+  for (std::size_t i : idx) {
+    run.times.push_back(log.lasers[i].time);
+    run.scans.push_back(log.lasers[i].scan);
+  }
+  run.odometry = std::move(odom.poses);
+  run.first_pose = log.lasers[idx.front()].pose;
+  return run;
+}
+
+#ifdef VDTNAV_CLI_ROS
+ScanRun read_bag_run(const LocalizeArgs& a) {
+  const std::unique_ptr<ros::BagReader> bag = ros::BagReader::open(a.bag);
+  ros::ScanSequenceOptions o;
+  o.scan_topic = a.scan_topic;
+  o.odom_topic = a.odom_topic;
+  o.odom_frame = a.odom_frame;
+  o.base_frame = a.base_frame;
+  if (!a.laser_pose.empty()) o.laser_pose = parse_pose(a.laser_pose, "--laser-pose");
+  o.sigma_range = a.sigma_range;
+  if (a.max_range_given) o.max_range = a.max_range;
+  ros::ScanSequence seq = ros::read_scan_sequence(*bag, o);
+  std::fprintf(stderr,
+               "[localize] %zu scans of %s (frame %s), odometry from %s, mounting from %s%s\n",
+               seq.scans.size(), seq.scan_topic.c_str(), seq.scan_frame.c_str(),
+               seq.odometry_source.c_str(), seq.mount_source.c_str(),
+               seq.skipped_no_odometry > 0 ? (" (" + std::to_string(seq.skipped_no_odometry) +
+                                              " scans outside the odometry's time span left out)")
+                                                 .c_str()
+                                           : "");
+  ScanRun run;
+  run.input = a.bag;
+  for (std::size_t k = 0; k < seq.scans.size(); ++k) {
+    if (!a.window.contains(seq.scans[k].time)) continue;
+    run.times.push_back(seq.scans[k].time);
+    run.scans.push_back(std::move(seq.scans[k]));
+    run.odometry.push_back(seq.odometry[k]);
+  }
+  if (run.scans.empty()) {
+    throw UsageError(a.bag + ": no scan in the time window (the bag has " +
+                     std::to_string(seq.scans.size()) + ")");
+  }
+  return run;
+}
+#endif
 
 /// What a scan's row of the pose table says (one per scan of the window).
 struct PoseRow {
@@ -75,10 +163,17 @@ void run_localize(const LocalizeArgs& a) {
     std::fputs(localizer_settings_yaml(settings, a.method).c_str(), stdout);
     return;
   }
-  for (const auto& [flag, value] : {std::pair<const char*, const std::string*>{"--map", &a.map},
-                                    {"--log", &a.log},
-                                    {"--out", &a.out}}) {
+  for (const auto& [flag, value] :
+       {std::pair<const char*, const std::string*>{"--map", &a.map}, {"--out", &a.out}}) {
     if (value->empty()) throw UsageError(std::string("localize: ") + flag + " is required");
+  }
+  if (a.log.empty() == a.bag.empty()) {
+    throw UsageError("localize: give one input, --log (CARMEN) or --bag (ROS 1 or ROS 2)");
+  }
+  if (!a.bag.empty() && a.init.empty()) {
+    throw UsageError(
+        "localize: a bag holds no pose in the map's frame: give --init x,y,yaw or "
+        "--init global");
   }
   // The outputs' temporary names now: a folder that does not exist fails before any work.
   StagedOutputs staged;
@@ -96,40 +191,21 @@ void run_localize(const LocalizeArgs& a) {
   std::fprintf(stderr, "[localize] map %d x %d cells of %.3f m, VDT built in %.3f s\n",
                map.occupancy.size().x(), map.occupancy.size().y(), map.occupancy.resolution(),
                map.build_seconds);
-  CarmenLogOptions lo;
-  lo.max_range = a.max_range;
-  lo.skip_malformed = a.skip_malformed;
-  CarmenLog log = load_log(a.log, lo, a.time_base);
-  if (!a.max_range_given) apply_no_return_code(log, "localize");
-  const std::vector<std::size_t> idx = scans_in(log, a.window);
-  if (idx.empty()) {
-    throw UsageError(a.log + ": no laser message in the time window (the log has " +
-                     std::to_string(log.lasers.size()) + " scans)");
-  }
-  LogOdometry odom = log_odometry(log, idx);
-  if (a.odometry == "laser" && odom.source != LogOdometrySource::kLaserOdomFields) {
-    odom.source = LogOdometrySource::kLaserOdomFields;
-    odom.reason = "--odometry laser";
-    odom.poses.clear();
-    for (std::size_t i : idx) odom.poses.push_back(log.lasers[i].odom);
-  } else if (a.odometry == "odom" && odom.source != LogOdometrySource::kOdomMessages) {
-    throw ConfigError(a.log + ": --odometry odom, but the ODOM lines are unusable: " + odom.reason);
-  }
-  std::fprintf(stderr, "[localize] %zu scans, odometry from %s%s%s\n", idx.size(),
-               odom.source == LogOdometrySource::kOdomMessages ? "ODOM lines"
-                                                               : "the laser messages' odom fields",
-               odom.reason.empty() ? "" : " (ODOM lines unusable: ",
-               odom.reason.empty() ? "" : (odom.reason + ")").c_str());
-  std::vector<double> times;
-  for (std::size_t i : idx) times.push_back(log.lasers[i].time);
-  const std::vector<OdometryStep> steps = odometry_steps(times, odom.poses);
+#ifdef VDTNAV_CLI_ROS
+  ScanRun run = a.bag.empty() ? read_log_run(a) : read_bag_run(a);
+#else
+  ScanRun run = read_log_run(a);
+#endif
+  const std::size_t n_scans = run.scans.size();
+  const std::vector<double>& times = run.times;
+  const std::vector<OdometryStep> steps = odometry_steps(times, run.odometry);
 
   // One row per scan of the window, whatever its status (the --cov table); the TUM file gets
   // the poses of the accepted statuses.
-  std::vector<PoseRow> rows(idx.size());
-  for (std::size_t k = 0; k < idx.size(); ++k) rows[k].t = times[k];
+  std::vector<PoseRow> rows(n_scans);
+  for (std::size_t k = 0; k < n_scans; ++k) rows[k].t = times[k];
 
-  Pose2 init = init_arg ? *init_arg : log.lasers[idx.front()].pose;
+  Pose2 init = init_arg ? *init_arg : *run.first_pose;
   Eigen::Matrix3d init_cov =
       Eigen::Vector3d(sig[0] * sig[0], sig[1] * sig[1], sig[2] * sig[2]).asDiagonal();
   std::size_t first = 0;  // the first scan localized (--init global: the first one accepted)
@@ -138,10 +214,10 @@ void run_localize(const LocalizeArgs& a) {
     GlobalLocalizationOptions g = settings.global;
     g.optimizer = settings.vdt_opt;
     const GlobalLocalizer global(*map.vdt, map.occupancy, g, MapKnowledge(map.ros.cells));
-    const std::size_t tries = std::min<std::size_t>(idx.size(), 50);
+    const std::size_t tries = std::min<std::size_t>(n_scans, 50);
     started = false;
     for (; first < tries && !started; ++first) {
-      LaserScan scan = log.lasers[idx[first]].scan;
+      LaserScan scan = run.scans[first];
       scan.sigma_range = a.sigma_range;
       const GlobalLocalizationResult r = global.localize(scan_points(scan));
       const bool here = r.result.status == LocalizationStatus::kConverged;
@@ -174,9 +250,9 @@ void run_localize(const LocalizeArgs& a) {
   if (started) {
     loc = make_localizer(a.method, *map.vdt, map.occupancy, settings, MapKnowledge(map.ros.cells));
     loc->reset(init, init_cov);
-    ProgressBar bar("[localize] " + a.method, idx.size(), a.quiet);
-    for (std::size_t k = first; k < idx.size(); ++k) {
-      LaserScan scan = log.lasers[idx[k]].scan;
+    ProgressBar bar("[localize] " + a.method, n_scans, a.quiet);
+    for (std::size_t k = first; k < n_scans; ++k) {
+      LaserScan scan = run.scans[k];
       scan.sigma_range = a.sigma_range;
       const auto t0 = std::chrono::steady_clock::now();
       // The first scan localized starts at the reset pose: no motion into it.
@@ -234,7 +310,7 @@ void run_localize(const LocalizeArgs& a) {
   }
   if (!a.plot.empty() && !estimate.empty()) {
     plot_trajectories(staged.file(a.plot + "_trajectory.png"), map.ros,
-                      {{a.method, estimate, false}}, a.method + " on " + a.log);
+                      {{a.method, estimate, false}}, a.method + " on " + run.input);
     plot_reprojected_scans(staged.file(a.plot + "_scans.png"), map.ros, estimate, scans,
                            "scans reprojected from the " + a.method + " poses");
   }
@@ -244,7 +320,7 @@ void run_localize(const LocalizeArgs& a) {
               a.method.c_str(), processed, wall,
               processed > 0 ? ms_sum / static_cast<double>(processed) : 0.0, ms_max);
   if (first > 0) std::printf("  %-22s %zu\n", "refused (--init global)", first);
-  if (!started) std::printf("  %-22s %zu\n", "not tried", idx.size() - first);
+  if (!started) std::printf("  %-22s %zu\n", "not tried", n_scans - first);
   for (const auto& [s, n] : status_count) std::printf("  %-22s %d\n", to_string(s), n);
   if (const auto* rec = dynamic_cast<const RecoveringLocalizer*>(loc.get())) {
     if (rec->recoveries() > 0 || rec->searches() > 0) {
@@ -255,7 +331,7 @@ void run_localize(const LocalizeArgs& a) {
       std::printf("  (--no-recover: the lost scans were not localized again)\n");
     }
   }
-  std::printf("wrote %s (%zu of %zu poses: %s)", a.out.c_str(), written, idx.size(),
+  std::printf("wrote %s (%zu of %zu poses: %s)", a.out.c_str(), written, n_scans,
               a.all_poses ? "every status" : a.accept_status.c_str());
   if (!a.cov.empty()) {
     std::printf(", %s (%zu rows, %zu covariances)", a.cov.c_str(), rows.size(), with_cov);
@@ -272,17 +348,17 @@ void run_localize(const LocalizeArgs& a) {
   // What the run means: nothing localized (exit 3), too little (a warning, exit 3 with --strict),
   // lost scans with --strict (exit 3).
   if (!started) {
-    throw NotLocalized(a.log + ": --init global: none of the first " + std::to_string(first) +
+    throw NotLocalized(run.input + ": --init global: none of the first " + std::to_string(first) +
                        " scans could be localized on " + a.map +
                        " without ambiguity (give --init x,y,yaw); " + a.out + " holds no pose");
   }
-  const double fraction = static_cast<double>(localized) / static_cast<double>(idx.size());
+  const double fraction = static_cast<double>(localized) / static_cast<double>(n_scans);
   char msg[512];
   std::snprintf(msg, sizeof msg,
                 "only %d of %zu scans (%.1f %%) localized (converged), fewer than %.0f %%: the "
                 "map does not explain this log's scans (wrong map, --init, --time-base or time "
                 "window?)",
-                localized, idx.size(), 100.0 * fraction, 100.0 * kMinLocalizedFraction);
+                localized, n_scans, 100.0 * fraction, 100.0 * kMinLocalizedFraction);
   if (localized == 0) throw NotLocalized(std::string(msg) + "; " + a.out + " holds no pose");
   if (fraction < kMinLocalizedFraction) {
     if (a.strict) throw NotLocalized(std::string(msg) + " (--strict)");
@@ -290,7 +366,7 @@ void run_localize(const LocalizeArgs& a) {
   }
   const int lost = status_count[LocalizationStatus::kLost];
   if (a.strict && lost > 0) {
-    throw NotLocalized("--strict: " + std::to_string(lost) + " of " + std::to_string(idx.size()) +
+    throw NotLocalized("--strict: " + std::to_string(lost) + " of " + std::to_string(n_scans) +
                        " scans lost (the outputs are written)");
   }
 }
@@ -302,8 +378,26 @@ void add_localize_command(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand("localize", "Localize a log's scans on a map");
   // --map, --log and --out are required unless --print-config (checked in run_localize).
   cmd->add_option("--map", args->map, "ROS map_server YAML (required)")->check(input_file("--map"));
-  cmd->add_option("--log", args->log, "CARMEN log, plain or gzip (required)")
+  cmd->add_option("--log", args->log, "CARMEN log, plain or gzip (this or --bag)")
       ->check(input_file("--log"));
+#ifdef VDTNAV_CLI_ROS
+  cmd->add_option("--bag", args->bag,
+                  "ROS 1 bag (.bag) or ROS 2 bag (folder with metadata.yaml and .db3 files); "
+                  "stamps are the scans' header stamps; --init is required")
+      ->check(input_path("--bag"));
+  cmd->add_option("--scan-topic", args->scan_topic,
+                  "--bag: the sensor_msgs/LaserScan topic (default: the only one)");
+  cmd->add_option("--odom-topic", args->odom_topic,
+                  "--bag: a nav_msgs/Odometry topic (default: TF --odom-frame -> --base-frame "
+                  "when the bag has it, else the only Odometry topic)");
+  cmd->add_option("--odom-frame", args->odom_frame, "--bag: the odometry frame (REP 105)")
+      ->capture_default_str();
+  cmd->add_option("--base-frame", args->base_frame, "--bag: the robot's frame (REP 105)")
+      ->capture_default_str();
+  cmd->add_option("--laser-pose", args->laser_pose,
+                  "--bag: the scanner's pose x,y,yaw in --base-frame when the bag has no "
+                  "transform to the scans' frame");
+#endif
   cmd->add_option("--method", args->method, "Localizer")
       ->check(CLI::IsMember(localizer_methods()))
       ->capture_default_str();

@@ -45,6 +45,18 @@ CLI::Validator input_file(const std::string& flag) {
       "FILE");
 }
 
+CLI::Validator input_path(const std::string& flag) {
+  return CLI::Validator(
+      [flag](std::string& path) {
+        std::error_code ec;
+        if (!std::filesystem::exists(path, ec)) {
+          throw IoError(flag + ": no such file or folder: " + path);
+        }
+        return std::string();
+      },
+      "PATH");
+}
+
 std::string status_token(LocalizationStatus s) {
   std::string t = to_string(s);
   std::replace(t.begin(), t.end(), ' ', '_');

@@ -68,6 +68,8 @@ double apply_no_return_code(CarmenLog& log, const char* tag);
 /// IoError "FLAG: File does not exist: PATH", bad input (exit 1) like a file that cannot be read,
 /// not a usage error.
 [[nodiscard]] CLI::Validator input_file(const std::string& flag);
+/// \brief As input_file, for a file or a folder (a ROS 2 bag).
+[[nodiscard]] CLI::Validator input_path(const std::string& flag);
 
 /// \brief A status as the pose tables write it: to_string() with '_' for ' ' ("not_converged").
 [[nodiscard]] std::string status_token(LocalizationStatus s);
@@ -91,5 +93,7 @@ void add_join_odometry_command(CLI::App& app);
 void add_map3d_command(CLI::App& app);
 void add_localize3d_command(CLI::App& app);
 #endif
+/// \brief `vdtnav bag info BAG` (built with the ROS front end).
+void add_bag_command(CLI::App& app);
 
 }  // namespace vdtnav::tools

@@ -36,6 +36,9 @@ int main(int argc, char** argv) {
   vdtnav::tools::add_map3d_command(app);
   vdtnav::tools::add_localize3d_command(app);
 #endif
+#ifdef VDTNAV_CLI_ROS
+  vdtnav::tools::add_bag_command(app);
+#endif
   using namespace vdtnav::tools;  // NOLINT(google-build-using-namespace): the exit statuses
   try {
     app.parse(argc, argv);

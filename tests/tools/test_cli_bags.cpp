@@ -1,0 +1,124 @@
+// `vdtnav bag info` and `vdtnav localize --bag` on the shared real bags (../shared/data/rosbags),
+// as a user runs them: what the bag holds (the README's counts and frames), where a run starts
+// (the README: the TurtleBot's first scan lies about 0.5 m / 4 degrees from its odometry pose in
+// the map frame), one pose-table row per scan, and errors that name what the bag has.
+// Skips when the data is absent.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "cli_runner.hpp"
+#include "vdtnav/io/tum_trajectory.hpp"
+#include "vdtnav/ros/bag_reader.hpp"
+#include "vdtnav/ros/scan_sequence.hpp"
+
+namespace vdtnav {
+namespace {
+
+namespace fs = std::filesystem;
+using test::contains;
+using test::read_all;
+using test::run_cli;
+
+const fs::path kBags = fs::path(VDTNAV_DATA_DIR) / "rosbags";
+const fs::path kOlin = kBags / "olin-tb4-ros2";
+const fs::path kIst = kBags / "ist-pioneer3dx";
+
+fs::path work_dir(const std::string& name) {
+  const fs::path d = fs::path(VDTNAV_TEST_TMP) / (name + "_" + std::to_string(::getpid()));
+  fs::create_directories(d);
+  return d;
+}
+
+std::size_t lines_of(const fs::path& p) {
+  std::ifstream in(p);
+  std::size_t n = 0;
+  for (std::string l; std::getline(in, l);) n += l.empty() ? 0 : 1;
+  return n;
+}
+
+TEST(CliBags, BagInfoListsTopicsCountsAndTheTfTreeOfBothFormats) {
+  if (!fs::exists(kOlin)) GTEST_SKIP() << "no " << kOlin;
+  const fs::path d = work_dir("bag_info");
+  ASSERT_EQ(run_cli("bag info " + (kOlin / "macfirst_floor_take_2").string(), d / "olin.txt"), 0)
+      << read_all(d / "olin.txt");
+  const std::string olin = read_all(d / "olin.txt");
+  EXPECT_TRUE(contains(olin, "ROS 2 bag")) << olin;
+  EXPECT_TRUE(contains(olin, "/scan                  357 msgs")) << olin;
+  EXPECT_TRUE(contains(olin, "/odom                  920 msgs")) << olin;
+  EXPECT_TRUE(contains(olin, "rplidar_link <- base_link")) << olin;
+  EXPECT_TRUE(contains(olin, "base_footprint <- odom")) << olin;
+  if (!fs::exists(kIst / "test1.bag")) return;
+  ASSERT_EQ(run_cli("bag info " + (kIst / "test1.bag").string(), d / "ist.txt"), 0)
+      << read_all(d / "ist.txt");
+  const std::string ist = read_all(d / "ist.txt");
+  EXPECT_TRUE(contains(ist, "ROS 1 bag")) << ist;
+  EXPECT_TRUE(contains(ist, "311 msgs")) << ist;
+  EXPECT_TRUE(contains(ist, "base_link <- odom")) << ist;
+  EXPECT_FALSE(contains(ist, "<- base_link")) << ist;  // no mounting transform in that bag
+  fs::remove_all(d);
+}
+
+TEST(CliBags, LocalizesTheTurtlebotBagFromNoPriorWhereItsOdometryStarts) {
+  if (!fs::exists(kOlin)) GTEST_SKIP() << "no " << kOlin;
+  const fs::path d = work_dir("bag_olin");
+  const fs::path bag = kOlin / "macfirst_floor_take_2";
+  const std::string args = "localize --map " + (kOlin / "mac_1st_floor_final.yaml").string() +
+                           " --bag " + bag.string() + " --init global --quiet --out " +
+                           (d / "olin.tum").string() + " --cov " + (d / "olin.csv").string();
+  ASSERT_EQ(run_cli(args, d / "olin.txt"), 0) << read_all(d / "olin.txt");
+  // One pose-table row per scan the run holds (the bag's scans with odometry at their stamps).
+  const std::unique_ptr<ros::BagReader> reader = ros::BagReader::open(bag.string());
+  const ros::ScanSequence seq = ros::read_scan_sequence(*reader, {});
+  EXPECT_EQ(seq.scans.size() + seq.skipped_no_odometry, 357U);
+  EXPECT_EQ(lines_of(d / "olin.csv"), 1 + seq.scans.size());
+  // The first pose: the map frame is the odometry's within the README's 0.5 m / 4 degrees.
+  const std::vector<StampedPose3> tum = load_tum_trajectory((d / "olin.tum").string()).poses;
+  ASSERT_FALSE(tum.empty());
+  const Pose2 odom0 = seq.odometry.front();
+  EXPECT_NEAR(tum.front().t, seq.scans.front().time, 1e-3);
+  const Eigen::Vector3d t = tum.front().pose.translation();
+  EXPECT_LT(std::hypot(t.x() - odom0[0], t.y() - odom0[1]), 1.0);
+  EXPECT_LT(std::abs(wrap_angle(ros::planar(tum.front().pose)[2] - odom0[2])), 0.15);
+  fs::remove_all(d);
+}
+
+TEST(CliBags, ErrorsNameWhatTheBagHas) {
+  if (!fs::exists(kOlin)) GTEST_SKIP() << "no " << kOlin;
+  const fs::path d = work_dir("bag_errors");
+  const std::string base = "localize --map " + (kOlin / "mac_1st_floor_final.yaml").string() +
+                           " --bag " + (kOlin / "macfirst_floor_take_2").string() + " --out " +
+                           (d / "out.tum").string();
+  EXPECT_EQ(run_cli(base, d / "noinit.txt"), 2) << read_all(d / "noinit.txt");  // no --init
+  EXPECT_TRUE(contains(read_all(d / "noinit.txt"), "--init")) << read_all(d / "noinit.txt");
+  EXPECT_EQ(run_cli(base + " --init 0,0,0 --scan-topic /nope", d / "topic.txt"), 1);
+  EXPECT_TRUE(contains(read_all(d / "topic.txt"), "/scan (sensor_msgs/msg/LaserScan, 357)"))
+      << read_all(d / "topic.txt");
+  EXPECT_EQ(
+      run_cli(base + " --init 0,0,0 --base-frame chassis --odom-topic /cmd_vel", d / "odom.txt"),
+      1);
+  EXPECT_TRUE(contains(read_all(d / "odom.txt"), "not nav_msgs/Odometry"))
+      << read_all(d / "odom.txt");
+  if (fs::exists(kIst / "test1.bag")) {
+    // No base_link -> laser transform in this bag: the error says so and what to give.
+    EXPECT_EQ(run_cli("localize --map " + (kIst / "map.yaml").string() + " --bag " +
+                          (kIst / "test1.bag").string() + " --init 0,0,0 --out " +
+                          (d / "ist.tum").string(),
+                      d / "ist.txt"),
+              1);
+    const std::string ist = read_all(d / "ist.txt");
+    EXPECT_TRUE(contains(ist, "base_link -> laser")) << ist;
+    EXPECT_TRUE(contains(ist, "--laser-pose")) << ist;
+  }
+  EXPECT_EQ(test::files_in(d).size(), 3U + (fs::exists(kIst / "test1.bag") ? 1U : 0U))
+      << "a failed run leaves no output";
+  fs::remove_all(d);
+}
+
+}  // namespace
+}  // namespace vdtnav
