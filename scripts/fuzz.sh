@@ -16,7 +16,8 @@ runs="${2:--1}"
 data="${VDTNAV_DATA:-../shared/data}"
 
 all="ros_map ros_map_image vdt_map_file carmen_log relations tum_trajectory odometry_table
-     point_set localizer_config pan_tilt_csv camera_calibration camera_poses point_cloud"
+     point_set localizer_config pan_tilt_csv camera_calibration camera_poses point_cloud
+     ros1_bag ros_messages"
 read -r -a targets <<< "$(echo ${FUZZ_TARGETS:-$all})"
 build=()
 for t in "${targets[@]}"; do build+=("fuzz_$t"); done

@@ -60,5 +60,5 @@ echo "== [5/5] Fuzz targets of the parsers, 3000 inputs each (clang, libFuzzer, 
 # new random find (scripts/fuzz.sh without FUZZ_SEED explores). The settings-file target needs
 # the whole localization library under clang: scripts/fuzz.sh runs it; here the file parsers.
 FUZZ_SEED=1 FUZZ_TARGETS="ros_map ros_map_image vdt_map_file carmen_log relations tum_trajectory
-  odometry_table point_set pan_tilt_csv camera_calibration camera_poses" scripts/fuzz.sh 600 3000
+  odometry_table point_set pan_tilt_csv camera_calibration camera_poses ros1_bag ros_messages" scripts/fuzz.sh 600 3000
 echo "== all tests passed"

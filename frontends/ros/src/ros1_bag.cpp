@@ -1,12 +1,14 @@
 // ROS 1 bags (format 2.0) read through Debian's rosbag_storage, and the messages of
-// messages.hpp deserialized with ros::serialization into Debian's message classes.
+// messages.hpp decoded from ROS 1 serialization by message_fields.hpp's layouts (a bounds-checked
+// reader: ros::serialization resizes a sequence to whatever length the bytes claim before it
+// checks them, gigabytes for a corrupt message).
 //
 // rosbag_storage trusts the file: it follows offsets and lengths from the index without bounds
 // checks, so a truncated or corrupt bag can make it read past its buffers. open() therefore first
 // walks the records rosbag_storage will read when opening (the index at the end, each chunk's
 // header and the index records after it), the same way it does, and checks every position,
 // length, count and compression name against the file; only a bag that passes is handed to
-// rosbag_storage. Any exception rosbag_storage or ros::serialization still throws is rethrown
+// rosbag_storage. Any exception rosbag_storage still throws is rethrown
 // as vdtnav::FormatError naming the file (or the topic and bag time for a message).
 
 #include "ros1_bag.hpp"
@@ -25,20 +27,13 @@
 #include <stdexcept>
 #include <utility>
 
-#include <geometry_msgs/PoseStamped.h>
-#include <geometry_msgs/PoseWithCovarianceStamped.h>
-#include <nav_msgs/Odometry.h>
 #include <ros/exception.h>
-#include <ros/serialization.h>
 #include <rosbag/bag.h>
 #include <rosbag/exceptions.h>
 #include <rosbag/query.h>
 #include <rosbag/view.h>
-#include <sensor_msgs/Imu.h>
-#include <sensor_msgs/LaserScan.h>
-#include <sensor_msgs/PointCloud2.h>
-#include <tf2_msgs/TFMessage.h>
 
+#include "message_fields.hpp"
 #include "vdtnav/core/error.hpp"
 
 namespace vdtnav::ros::ros1 {
@@ -516,171 +511,108 @@ std::string describe(const BagMessage& m) {
   return s.str();
 }
 
-/// \brief Checks m's type and deserializes its bytes into the Debian message class RosMsg.
-template <class RosMsg>
-RosMsg deserialize(const BagMessage& m, const std::string& expected) {
+/// \brief ROS 1 serialization (packed, little-endian; strings and sequences with a uint32
+/// length) over a message's bytes, every read bounds-checked: a message cut short or a length
+/// larger than the bytes left is a FormatError, before anything is allocated.
+class Ros1Reader {
+ public:
+  explicit Ros1Reader(const BagMessage& m) : m_(m) {}
+
+  template <typename T>
+  T get() {
+    T v;
+    std::memcpy(&v, take(sizeof(T), "a field"), sizeof(T));  // x86-64 and ARM: little-endian
+    return v;
+  }
+  std::string str() {
+    const std::size_t n = length(1, "a string");
+    const std::uint8_t* p = take(n, "a string");
+    return std::string(reinterpret_cast<const char*>(p), n);
+  }
+  /// std_msgs/Header: uint32 seq (dropped), time stamp (uint32 sec, uint32 nsec), string frame_id.
+  Header header() {
+    (void)get<std::uint32_t>();
+    Header h;
+    const auto sec = get<std::uint32_t>();
+    const auto nsec = get<std::uint32_t>();
+    h.stamp_ns = to_ns(sec, nsec);
+    h.frame_id = str();
+    return h;
+  }
+  std::size_t length(std::size_t min_element_bytes, const char* field) {
+    const auto n = get<std::uint32_t>();
+    if (static_cast<std::uint64_t>(n) * min_element_bytes > m_.data.size() - at_) {
+      throw FormatError(describe(m_), 0,
+                        std::string("expected ") + m_.type + ": " + field + " claims " +
+                            std::to_string(n) + " elements, only " +
+                            std::to_string(m_.data.size() - at_) + " bytes are left");
+    }
+    return n;
+  }
+  template <typename T>
+  void sequence(std::vector<T>& out, const char* field) {
+    out.resize(length(sizeof(T), field));
+    if (!out.empty())
+      std::memcpy(out.data(), take(out.size() * sizeof(T), field), out.size() * sizeof(T));
+  }
+  template <std::size_t N>
+  void array(std::array<double, N>& out) {
+    std::memcpy(out.data(), take(N * sizeof(double), "a fixed array"), N * sizeof(double));
+  }
+
+ private:
+  const std::uint8_t* take(std::size_t n, const char* what) {
+    if (n > m_.data.size() - at_) {
+      throw FormatError(describe(m_), 0,
+                        "expected " + m_.type + ": the " + std::to_string(m_.data.size()) +
+                            " bytes end inside " + what);
+    }
+    const std::uint8_t* p = m_.data.data() + at_;
+    at_ += n;
+    return p;
+  }
+  const BagMessage& m_;
+  std::size_t at_ = 0;
+};
+
+/// \brief Checks m's type and format, then decodes its fields (message_fields.hpp).
+template <class Msg>
+Msg decode_with(const BagMessage& m, const std::string& expected, Msg (*fields)(Ros1Reader&)) {
   if (ros1_type_name(m.type) != expected) {
     throw FormatError(describe(m), 0, "expected " + expected + ", the topic holds " + m.type);
   }
   if (m.format != BagFormat::kRos1) {
     throw FormatError(describe(m), 0, "not a ROS 1 message (ROS 2 CDR bytes)");
   }
-  if (m.data.size() > std::numeric_limits<std::uint32_t>::max()) {
-    throw FormatError(describe(m), 0, "a ROS 1 message has at most 4 GiB");
-  }
-  RosMsg out;
-  try {
-    // IStream only reads, but takes a non-const pointer. An empty buffer still needs a valid
-    // pointer for the stream's bounds arithmetic.
-    static std::uint8_t empty = 0;
-    std::uint8_t* data = m.data.empty() ? &empty : const_cast<std::uint8_t*>(m.data.data());
-    ::ros::serialization::IStream stream(data, static_cast<std::uint32_t>(m.data.size()));
-    ::ros::serialization::deserialize(stream, out);
-  } catch (const ::ros::Exception& e) {
-    throw FormatError(describe(m), 0,
-                      "the " + std::to_string(m.data.size()) + " bytes do not hold a " + expected +
-                          " (" + e.what() + ")");
-  } catch (const std::bad_alloc&) {
-    throw FormatError(describe(m), 0,
-                      "the bytes do not hold a " + expected + " (a length is too large)");
-  } catch (const std::length_error&) {
-    throw FormatError(describe(m), 0,
-                      "the bytes do not hold a " + expected + " (a length is too large)");
-  }
-  return out;
+  Ros1Reader r(m);
+  return fields(r);
 }
-
-Header to_header(const std_msgs::Header& h) {
-  Header out;
-  out.stamp_ns = to_ns(h.stamp.sec, h.stamp.nsec);
-  out.frame_id = h.frame_id;
-  return out;
-}
-
-PoseMsg to_pose(const geometry_msgs::Pose& p) {
-  PoseMsg out;
-  out.position = Eigen::Vector3d(p.position.x, p.position.y, p.position.z);
-  out.orientation =
-      Eigen::Quaterniond(p.orientation.w, p.orientation.x, p.orientation.y, p.orientation.z);
-  return out;
-}
-
-template <std::size_t N, class BoostArray>
-std::array<double, N> to_array(const BoostArray& a) {
-  static_assert(BoostArray::static_size == N, "covariance sizes differ");
-  std::array<double, N> out{};
-  std::copy(a.begin(), a.end(), out.begin());
-  return out;
-}
-
-PoseWithCovarianceMsg to_pose_with_covariance(const geometry_msgs::PoseWithCovariance& p) {
-  PoseWithCovarianceMsg out;
-  out.pose = to_pose(p.pose);
-  out.covariance = to_array<36>(p.covariance);
-  return out;
-}
-
-Eigen::Vector3d to_vector(const geometry_msgs::Vector3& v) { return {v.x, v.y, v.z}; }
 
 }  // namespace
 
 std::unique_ptr<BagReader> open(const std::string& path) { return std::make_unique<Ros1Bag>(path); }
 
 LaserScanMsg decode_laser_scan(const BagMessage& m) {
-  auto in = deserialize<sensor_msgs::LaserScan>(m, "sensor_msgs/LaserScan");
-  LaserScanMsg out;
-  out.header = to_header(in.header);
-  out.angle_min = in.angle_min;
-  out.angle_max = in.angle_max;
-  out.angle_increment = in.angle_increment;
-  out.time_increment = in.time_increment;
-  out.scan_time = in.scan_time;
-  out.range_min = in.range_min;
-  out.range_max = in.range_max;
-  out.ranges = std::move(in.ranges);
-  out.intensities = std::move(in.intensities);
-  return out;
+  return decode_with(m, "sensor_msgs/LaserScan", fields::laser_scan<Ros1Reader>);
 }
-
 PointCloud2Msg decode_point_cloud2(const BagMessage& m) {
-  auto in = deserialize<sensor_msgs::PointCloud2>(m, "sensor_msgs/PointCloud2");
-  PointCloud2Msg out;
-  out.header = to_header(in.header);
-  out.height = in.height;
-  out.width = in.width;
-  for (const sensor_msgs::PointField& f : in.fields) {
-    PointFieldMsg field;
-    field.name = f.name;
-    field.offset = f.offset;
-    field.datatype = f.datatype;
-    field.count = f.count;
-    out.fields.push_back(std::move(field));
-  }
-  out.is_bigendian = in.is_bigendian != 0;
-  out.point_step = in.point_step;
-  out.row_step = in.row_step;
-  out.data = std::move(in.data);
-  out.is_dense = in.is_dense != 0;
-  return out;
+  return decode_with(m, "sensor_msgs/PointCloud2", fields::point_cloud2<Ros1Reader>);
 }
-
 OdometryMsg decode_odometry(const BagMessage& m) {
-  const auto in = deserialize<nav_msgs::Odometry>(m, "nav_msgs/Odometry");
-  OdometryMsg out;
-  out.header = to_header(in.header);
-  out.child_frame_id = in.child_frame_id;
-  out.pose = to_pose_with_covariance(in.pose);
-  out.twist.linear = to_vector(in.twist.twist.linear);
-  out.twist.angular = to_vector(in.twist.twist.angular);
-  out.twist.covariance = to_array<36>(in.twist.covariance);
-  return out;
+  return decode_with(m, "nav_msgs/Odometry", fields::odometry<Ros1Reader>);
 }
-
 TfMsg decode_tf(const BagMessage& m) {
-  const auto in = deserialize<tf2_msgs::TFMessage>(m, "tf2_msgs/TFMessage");
-  TfMsg out;
-  out.transforms.reserve(in.transforms.size());
-  for (const geometry_msgs::TransformStamped& t : in.transforms) {
-    TransformStampedMsg tf;
-    tf.header = to_header(t.header);
-    tf.child_frame_id = t.child_frame_id;
-    tf.translation = to_vector(t.transform.translation);
-    const geometry_msgs::Quaternion& q = t.transform.rotation;
-    tf.rotation = Eigen::Quaterniond(q.w, q.x, q.y, q.z);
-    out.transforms.push_back(std::move(tf));
-  }
-  return out;
+  return decode_with(m, "tf2_msgs/TFMessage", fields::tf<Ros1Reader>);
 }
-
 PoseStampedMsg decode_pose_stamped(const BagMessage& m) {
-  const auto in = deserialize<geometry_msgs::PoseStamped>(m, "geometry_msgs/PoseStamped");
-  PoseStampedMsg out;
-  out.header = to_header(in.header);
-  out.pose = to_pose(in.pose);
-  return out;
+  return decode_with(m, "geometry_msgs/PoseStamped", fields::pose_stamped<Ros1Reader>);
 }
-
 PoseWithCovarianceStampedMsg decode_pose_with_covariance_stamped(const BagMessage& m) {
-  const auto in = deserialize<geometry_msgs::PoseWithCovarianceStamped>(
-      m, "geometry_msgs/PoseWithCovarianceStamped");
-  PoseWithCovarianceStampedMsg out;
-  out.header = to_header(in.header);
-  out.pose = to_pose_with_covariance(in.pose);
-  return out;
+  return decode_with(m, "geometry_msgs/PoseWithCovarianceStamped",
+                     fields::pose_with_covariance_stamped<Ros1Reader>);
 }
-
 ImuMsg decode_imu(const BagMessage& m) {
-  const auto in = deserialize<sensor_msgs::Imu>(m, "sensor_msgs/Imu");
-  ImuMsg out;
-  out.header = to_header(in.header);
-  const geometry_msgs::Quaternion& q = in.orientation;
-  out.orientation = Eigen::Quaterniond(q.w, q.x, q.y, q.z);
-  out.orientation_covariance = to_array<9>(in.orientation_covariance);
-  out.angular_velocity = to_vector(in.angular_velocity);
-  out.angular_velocity_covariance = to_array<9>(in.angular_velocity_covariance);
-  out.linear_acceleration = to_vector(in.linear_acceleration);
-  out.linear_acceleration_covariance = to_array<9>(in.linear_acceleration_covariance);
-  return out;
+  return decode_with(m, "sensor_msgs/Imu", fields::imu<Ros1Reader>);
 }
 
 }  // namespace vdtnav::ros::ros1

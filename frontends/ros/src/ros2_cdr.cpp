@@ -1,7 +1,7 @@
 // ROS 2 messages (CDR, as rmw writes them into rosbag2) decoded into the ROS-free structs of
 // messages.hpp with eProsima Fast CDR. The data starts with the 4-byte encapsulation header
 // (0x00 0x00 big-endian CDR, 0x00 0x01 little-endian, then 2 option bytes); alignment counts
-// from the byte after it. Field layouts follow the .msg definitions cited at each decoder.
+// from the byte after it. The field layouts are message_fields.hpp's, shared with ROS 1.
 
 #include <fastcdr/Cdr.h>
 #include <fastcdr/FastBuffer.h>
@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "message_fields.hpp"
 #include "ros2_bag.hpp"
 #include "vdtnav/core/error.hpp"
 
@@ -107,37 +108,6 @@ class CdrReader {
     return h;
   }
 
-  /// geometry_msgs/msg/Vector3 or Point: float64 x, y, z.
-  Eigen::Vector3d vector3() {
-    Eigen::Vector3d v;
-    v.x() = get<double>();
-    v.y() = get<double>();
-    v.z() = get<double>();
-    return v;
-  }
-
-  /// geometry_msgs/msg/Quaternion: float64 x, y, z, w.
-  Eigen::Quaterniond quaternion() {
-    const double x = get<double>(), y = get<double>(), z = get<double>(), w = get<double>();
-    return Eigen::Quaterniond(w, x, y, z);
-  }
-
-  /// geometry_msgs/msg/Pose: Point position, Quaternion orientation.
-  PoseMsg pose() {
-    PoseMsg p;
-    p.position = vector3();
-    p.orientation = quaternion();
-    return p;
-  }
-
-  /// geometry_msgs/msg/PoseWithCovariance: Pose pose, float64[36] covariance.
-  PoseWithCovarianceMsg pose_with_covariance() {
-    PoseWithCovarianceMsg p;
-    p.pose = pose();
-    array(p.covariance);
-    return p;
-  }
-
  private:
   cdr::FastBuffer buffer_;
   cdr::Cdr cdr_;
@@ -161,120 +131,28 @@ auto decode_with(const BagMessage& m, const std::string& ros2_type, Decode decod
 
 }  // namespace
 
-// sensor_msgs/msg/LaserScan: Header header; float32 angle_min, angle_max, angle_increment,
-// time_increment, scan_time, range_min, range_max; float32[] ranges; float32[] intensities.
+// The layouts: message_fields.hpp (the same for ROS 1 and ROS 2).
 LaserScanMsg decode_laser_scan(const BagMessage& m) {
-  return decode_with(m, "sensor_msgs/msg/LaserScan", [](CdrReader& r) {
-    LaserScanMsg s;
-    s.header = r.header();
-    s.angle_min = r.get<float>();
-    s.angle_max = r.get<float>();
-    s.angle_increment = r.get<float>();
-    s.time_increment = r.get<float>();
-    s.scan_time = r.get<float>();
-    s.range_min = r.get<float>();
-    s.range_max = r.get<float>();
-    r.sequence(s.ranges, "ranges");
-    r.sequence(s.intensities, "intensities");
-    return s;
-  });
+  return decode_with(m, "sensor_msgs/msg/LaserScan", fields::laser_scan<CdrReader>);
 }
-
-// sensor_msgs/msg/PointCloud2: Header header; uint32 height, width; PointField[] fields;
-// bool is_bigendian; uint32 point_step, row_step; uint8[] data; bool is_dense.
-// sensor_msgs/msg/PointField: string name; uint32 offset; uint8 datatype; uint32 count.
 PointCloud2Msg decode_point_cloud2(const BagMessage& m) {
-  return decode_with(m, "sensor_msgs/msg/PointCloud2", [](CdrReader& r) {
-    PointCloud2Msg c;
-    c.header = r.header();
-    c.height = r.get<std::uint32_t>();
-    c.width = r.get<std::uint32_t>();
-    // A PointField takes at least 13 bytes: name length, offset, datatype, count.
-    c.fields.resize(r.length(13, "fields"));
-    for (PointFieldMsg& f : c.fields) {
-      f.name = r.str();
-      f.offset = r.get<std::uint32_t>();
-      f.datatype = r.get<std::uint8_t>();
-      f.count = r.get<std::uint32_t>();
-    }
-    c.is_bigendian = r.get<bool>();
-    c.point_step = r.get<std::uint32_t>();
-    c.row_step = r.get<std::uint32_t>();
-    r.sequence(c.data, "data");
-    c.is_dense = r.get<bool>();
-    return c;
-  });
+  return decode_with(m, "sensor_msgs/msg/PointCloud2", fields::point_cloud2<CdrReader>);
 }
-
-// nav_msgs/msg/Odometry: Header header; string child_frame_id;
-// geometry_msgs/PoseWithCovariance pose; geometry_msgs/TwistWithCovariance twist
-// (Twist twist {Vector3 linear, Vector3 angular}; float64[36] covariance).
 OdometryMsg decode_odometry(const BagMessage& m) {
-  return decode_with(m, "nav_msgs/msg/Odometry", [](CdrReader& r) {
-    OdometryMsg o;
-    o.header = r.header();
-    o.child_frame_id = r.str();
-    o.pose = r.pose_with_covariance();
-    o.twist.linear = r.vector3();
-    o.twist.angular = r.vector3();
-    r.array(o.twist.covariance);
-    return o;
-  });
+  return decode_with(m, "nav_msgs/msg/Odometry", fields::odometry<CdrReader>);
 }
-
-// tf2_msgs/msg/TFMessage: geometry_msgs/TransformStamped[] transforms.
-// geometry_msgs/msg/TransformStamped: Header header; string child_frame_id;
-// Transform transform {Vector3 translation; Quaternion rotation}.
 TfMsg decode_tf(const BagMessage& m) {
-  return decode_with(m, "tf2_msgs/msg/TFMessage", [](CdrReader& r) {
-    TfMsg tf;
-    // A TransformStamped takes at least 72 bytes: stamp 8, two string lengths 8, 7 float64.
-    tf.transforms.resize(r.length(72, "transforms"));
-    for (TransformStampedMsg& t : tf.transforms) {
-      t.header = r.header();
-      t.child_frame_id = r.str();
-      t.translation = r.vector3();
-      t.rotation = r.quaternion();
-    }
-    return tf;
-  });
+  return decode_with(m, "tf2_msgs/msg/TFMessage", fields::tf<CdrReader>);
 }
-
-// geometry_msgs/msg/PoseStamped: Header header; Pose pose.
 PoseStampedMsg decode_pose_stamped(const BagMessage& m) {
-  return decode_with(m, "geometry_msgs/msg/PoseStamped", [](CdrReader& r) {
-    PoseStampedMsg p;
-    p.header = r.header();
-    p.pose = r.pose();
-    return p;
-  });
+  return decode_with(m, "geometry_msgs/msg/PoseStamped", fields::pose_stamped<CdrReader>);
 }
-
-// geometry_msgs/msg/PoseWithCovarianceStamped: Header header; PoseWithCovariance pose.
 PoseWithCovarianceStampedMsg decode_pose_with_covariance_stamped(const BagMessage& m) {
-  return decode_with(m, "geometry_msgs/msg/PoseWithCovarianceStamped", [](CdrReader& r) {
-    PoseWithCovarianceStampedMsg p;
-    p.header = r.header();
-    p.pose = r.pose_with_covariance();
-    return p;
-  });
+  return decode_with(m, "geometry_msgs/msg/PoseWithCovarianceStamped",
+                     fields::pose_with_covariance_stamped<CdrReader>);
 }
-
-// sensor_msgs/msg/Imu: Header header; Quaternion orientation; float64[9] orientation_covariance;
-// Vector3 angular_velocity; float64[9] angular_velocity_covariance; Vector3 linear_acceleration;
-// float64[9] linear_acceleration_covariance.
 ImuMsg decode_imu(const BagMessage& m) {
-  return decode_with(m, "sensor_msgs/msg/Imu", [](CdrReader& r) {
-    ImuMsg i;
-    i.header = r.header();
-    i.orientation = r.quaternion();
-    r.array(i.orientation_covariance);
-    i.angular_velocity = r.vector3();
-    r.array(i.angular_velocity_covariance);
-    i.linear_acceleration = r.vector3();
-    r.array(i.linear_acceleration_covariance);
-    return i;
-  });
+  return decode_with(m, "sensor_msgs/msg/Imu", fields::imu<CdrReader>);
 }
 
 }  // namespace vdtnav::ros::ros2

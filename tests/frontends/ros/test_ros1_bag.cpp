@@ -841,3 +841,31 @@ TEST(Ros1Bag, ReadSpeed) {
 }
 
 }  // namespace
+
+namespace vdtnav::ros {
+namespace {
+
+// fuzz_ros_messages found it: a LaserScan whose ranges claim ~1e9 floats in 90 bytes. The
+// decoder refuses the length before allocating anything (ros::serialization allocated 4 GB).
+TEST(Ros1Decode, ALengthLargerThanTheBytesLeftIsRefusedBeforeAllocating) {
+  std::ifstream in(
+      std::string(VDTNAV_FUZZ_REGRESSIONS) + "/ros_messages-ros1-scan-huge-length.fuzz",
+      std::ios::binary);
+  ASSERT_TRUE(in);
+  const std::vector<char> bytes((std::istreambuf_iterator<char>(in)), {});
+  ASSERT_GT(bytes.size(), 1U);
+  BagMessage m;
+  m.format = BagFormat::kRos1;
+  m.topic = "/scan";
+  m.type = "sensor_msgs/LaserScan";
+  m.data.assign(bytes.begin() + 1, bytes.end());  // the fuzzer's first byte picks the decoder
+  try {
+    (void)decode_laser_scan(m);
+    FAIL() << "decoded";
+  } catch (const FormatError& e) {
+    EXPECT_NE(std::string(e.what()).find("claims"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace vdtnav::ros
