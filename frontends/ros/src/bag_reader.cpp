@@ -5,8 +5,7 @@
 #include <filesystem>
 #include <fstream>
 
-#include "ros1_bag.hpp"
-#include "ros2_bag.hpp"
+#include "bag_formats.hpp"
 #include "vdtnav/core/error.hpp"
 
 namespace vdtnav::ros {

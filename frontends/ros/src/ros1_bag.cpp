@@ -11,7 +11,7 @@
 // rosbag_storage. Any exception rosbag_storage still throws is rethrown
 // as vdtnav::FormatError naming the file (or the topic and bag time for a message).
 
-#include "ros1_bag.hpp"
+#include "bag_formats.hpp"
 
 #include <algorithm>
 #include <array>

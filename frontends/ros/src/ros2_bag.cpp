@@ -17,7 +17,7 @@
 #include <utility>
 #include <vector>
 
-#include "ros2_bag.hpp"
+#include "bag_formats.hpp"
 #include "vdtnav/core/error.hpp"
 
 namespace vdtnav::ros::ros2 {

@@ -13,8 +13,8 @@
 #include <string>
 #include <vector>
 
+#include "bag_formats.hpp"
 #include "message_fields.hpp"
-#include "ros2_bag.hpp"
 #include "vdtnav/core/error.hpp"
 
 namespace vdtnav::ros::ros2 {
