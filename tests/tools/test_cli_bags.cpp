@@ -15,6 +15,7 @@
 #include "cli_runner.hpp"
 #include "vdtnav/io/tum_trajectory.hpp"
 #include "vdtnav/ros/bag_reader.hpp"
+#include "vdtnav/ros/cloud_points.hpp"
 #include "vdtnav/ros/scan_sequence.hpp"
 
 namespace vdtnav {
@@ -28,6 +29,7 @@ using test::run_cli;
 const fs::path kBags = fs::path(VDTNAV_DATA_DIR) / "rosbags";
 const fs::path kOlin = kBags / "olin-tb4-ros2";
 const fs::path kIst = kBags / "ist-pioneer3dx";
+const fs::path kLz4 = kBags / "embag-lz4" / "test.bag";
 
 fs::path work_dir(const std::string& name) {
   const fs::path d = fs::path(VDTNAV_TEST_TMP) / (name + "_" + std::to_string(::getpid()));
@@ -117,6 +119,46 @@ TEST(CliBags, ErrorsNameWhatTheBagHas) {
   }
   EXPECT_EQ(test::files_in(d).size(), 3U + (fs::exists(kIst / "test1.bag") ? 1U : 0U))
       << "a failed run leaves no output";
+  fs::remove_all(d);
+}
+
+TEST(CliBags, Localize3dTakesABagsCloudsOneRowEach) {
+  if (!fs::exists(kLz4)) GTEST_SKIP() << "no " << kLz4;
+  if (run_cli("localize3d --help", fs::path(VDTNAV_TEST_TMP) / "l3d_help.txt") != 0) {
+    GTEST_SKIP() << "built without the 3D commands";
+  }
+  const fs::path d = work_dir("bag_3d");
+  // The map: the bag's first Luminar cloud itself, written as text by the library's reader; that
+  // cloud must then come out at the identity, the ones after it with a row each.
+  std::int64_t first_stamp = 0;
+  {
+    std::ofstream xyz(d / "first.xyz");
+    const auto bag = ros::BagReader::open(kLz4.string());
+    bag->read({"/luminar_pointcloud"}, [&](const ros::BagMessage& m) {
+      const ros::PointCloud2Msg msg = ros::decode_point_cloud2(m);
+      first_stamp = msg.header.stamp_ns;
+      for (const Eigen::Vector3d& p : ros::cloud_points(msg, m.topic).points)
+        xyz << p.x() << ' ' << p.y() << ' ' << p.z() << '\n';
+      return false;
+    });
+  }
+  const std::string base = "localize3d --map " + (d / "first.xyz").string() +
+                           " --resolution 0.2 --crop -40,-40,-10,40,40,10 --max-range 40 --bag " +
+                           kLz4.string() + " --odom-topic none --init 0,0,0,0,0,0 --quiet";
+  // No mounting transform in the bag: the error names the clouds' frame and the flag.
+  EXPECT_EQ(run_cli(base + " --out " + (d / "nomount").string(), d / "nomount.txt"), 1);
+  EXPECT_TRUE(contains(read_all(d / "nomount.txt"), "--lidar-pose")) << read_all(d / "nomount.txt");
+  EXPECT_FALSE(fs::exists(d / "nomount"));
+  ASSERT_EQ(
+      run_cli(base + " --lidar-pose 0,0,0,0,0,0 --out " + (d / "out").string(), d / "out.txt"), 0)
+      << read_all(d / "out.txt");
+  EXPECT_EQ(lines_of(d / "out" / "status.csv"), 1U + 5U);  // a row per cloud, whatever its status
+  const std::vector<StampedPose3> tum =
+      load_tum_trajectory((d / "out" / "trajectory.tum").string()).poses;
+  ASSERT_FALSE(tum.empty());
+  EXPECT_NEAR(tum.front().t, 1e-9 * static_cast<double>(first_stamp), 1e-5);
+  EXPECT_LT(tum.front().pose.translation().norm(), 0.05);
+  EXPECT_LT(Eigen::AngleAxisd(tum.front().pose.linear()).angle(), 0.01);
   fs::remove_all(d);
 }
 

@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <optional>
 #include <set>
 #include <sstream>
 
@@ -26,6 +27,10 @@
 #include "vdtnav/io/tum_trajectory.hpp"
 #include "vdtnav/pcl/cloud_observations.hpp"
 #include "vdtnav/pcl/point_cloud_file.hpp"
+#ifdef VDTNAV_CLI_ROS
+#include "vdtnav/ros/bag_reader.hpp"
+#include "vdtnav/ros/cloud_sequence.hpp"
+#endif
 
 namespace vdtnav::tools {
 
@@ -36,6 +41,10 @@ namespace fs = std::filesystem;
 struct Localize3dArgs {
   std::string map, scans_dir, init, init_matrix, out, config, crop;
   std::vector<std::string> scans;
+  // --bag: a ROS 1 or ROS 2 bag's PointCloud2 topic (vdtnav/ros/cloud_sequence.hpp)
+  std::string bag, cloud_topic, odom_topic, imu_topic, odom_frame = "odom",
+                                                       base_frame = "base_link";
+  std::string lidar_pose;
   int dof = 6;
   Map3dOptions map_options;
   double voxel = -1.0;
@@ -195,8 +204,14 @@ void run_localize3d(const Localize3dArgs& a) {
   if (a.dof != 6 && a.dof != 4) throw UsageError("localize3d: --dof must be 6 or 4");
   if (!a.init.empty() && !a.init_matrix.empty())
     throw UsageError("localize3d: give --init or --init-matrix, not both");
-  if (a.scans.empty() == a.scans_dir.empty() && !a.print_config)
+  const int inputs =
+      (a.scans.empty() ? 0 : 1) + (a.scans_dir.empty() ? 0 : 1) + (a.bag.empty() ? 0 : 1);
+  if (inputs != 1 && !a.print_config)
+#ifdef VDTNAV_CLI_ROS
+    throw UsageError("localize3d: give --scan FILE (one or more) or --scans DIR, or --bag BAG");
+#else
     throw UsageError("localize3d: give --scan FILE (one or more) or --scans DIR");
+#endif
   if (!(a.min_explained >= 0.0 && a.min_explained <= 1.0))
     throw UsageError("localize3d: --min-explained must be in [0, 1]");
   if (!std::isnan(a.attitude_sigma) && !(a.attitude_sigma > 0.0 && std::isfinite(a.attitude_sigma)))
@@ -220,8 +235,10 @@ void run_localize3d(const Localize3dArgs& a) {
   Map3dOptions mo = a.map_options;
   mo.quiet = a.quiet;
   if (!a.crop.empty()) mo.crop = parse_crop(a.crop, "--crop");
-  const std::vector<std::string> scans = a.scans_dir.empty() ? a.scans : scans_in_dir(a.scans_dir);
-  const bool sequence = scans.size() > 1;
+  const std::vector<std::string> scans =
+      !a.bag.empty() ? std::vector<std::string>{}
+                     : (a.scans_dir.empty() ? a.scans : scans_in_dir(a.scans_dir));
+  const bool sequence = scans.size() > 1 || !a.bag.empty();
   // The outputs appear when the run completes: a sequence's folder is written under a temporary
   // name beside it (staged_output.hpp), so a bad scan in the middle leaves nothing behind.
   StagedOutputs staged;
@@ -262,14 +279,17 @@ void run_localize3d(const Localize3dArgs& a) {
   std::vector<std::string> table = {status_table_header()};
   Pose3 last = init, before_last = init;
   std::size_t accepted = 0, refused = 0, lost = 0;
-  for (std::size_t k = 0; k < scans.size(); ++k) {
+  std::size_t count = 0;
+  // One scan: solved from --init (or the prediction) until one is accepted, then tracked with the
+  // motion given (odometry, and roll and pitch from an IMU) or constant velocity.
+  const auto handle = [&](const std::string& name, double t, const ObservationSet3& obs,
+                          std::size_t cloud_points, double read_ms,
+                          const std::optional<OdometryStep3>& odometry) {
+    ++count;
     ScanReport r;
-    r.scan = scans[k];
-    const auto t0 = std::chrono::steady_clock::now();
-    const pcl::PointCloud<pcl::PointXYZ> cloud = read_point_cloud(scans[k]);
-    const ObservationSet3 obs = observations_from_cloud(cloud, co);
+    r.scan = name;
     const auto t1 = std::chrono::steady_clock::now();
-    r.cloud_points = cloud.size();
+    r.cloud_points = cloud_points;
     r.readings = obs.size();
     if (accepted == 0) {  // from --init (or the prediction while nothing was accepted)
       r.result =
@@ -285,13 +305,14 @@ void run_localize3d(const Localize3dArgs& a) {
         r.result.covariance = tracker.with_held_attitude(obs, r.result, a.attitude_sigma);
       }
     } else {
-      OdometryStep3 motion;  // constant velocity
+      OdometryStep3 motion;  // constant velocity unless the input has odometry
       motion.delta = before_last.inverse() * last;
+      if (odometry) motion = *odometry;
       r.result = tracker.update(motion, obs);
       r.explained = r.result.explained;
     }
     const auto t2 = std::chrono::steady_clock::now();
-    r.read_ms = std::chrono::duration<double, std::milli>(t1 - t0).count();
+    r.read_ms = read_ms;
     r.solve_ms = std::chrono::duration<double, std::milli>(t2 - t1).count();
     if (r.result.status == LocalizationStatus::kConverged) {
       before_last = accepted == 0 ? r.result.pose : last;
@@ -306,30 +327,90 @@ void run_localize3d(const Localize3dArgs& a) {
     std::printf(
         "%s: %s, %.0f %% explained, xyz %.3f %.3f %.3f m, rpy %.2f %.2f %.2f deg, sd %.3f m "
         "%.2f deg, %zu readings, %.1f ms\n",
-        fs::path(scans[k]).filename().string().c_str(), to_string(r.result.status),
-        100.0 * r.explained, xyz.x(), xyz.y(), xyz.z(), rpy.x() * 180.0 / M_PI,
-        rpy.y() * 180.0 / M_PI, rpy.z() * 180.0 / M_PI,
-        std::sqrt(r.result.covariance.topLeftCorner<3, 3>().trace()),
+        fs::path(name).filename().string().c_str(), to_string(r.result.status), 100.0 * r.explained,
+        xyz.x(), xyz.y(), xyz.z(), rpy.x() * 180.0 / M_PI, rpy.y() * 180.0 / M_PI,
+        rpy.z() * 180.0 / M_PI, std::sqrt(r.result.covariance.topLeftCorner<3, 3>().trace()),
         std::sqrt(r.result.covariance.bottomRightCorner<3, 3>().trace()) * 180.0 / M_PI, r.readings,
         r.solve_ms);
     if (r.result.status == LocalizationStatus::kRefused && !a.multi_start) {
       std::fprintf(stderr,
                    "[localize3d] %s: the map explains only %.0f %% of the scan at the estimate: "
                    "a wrong minimum or a poor guess; try --multi-start or a better --init\n",
-                   scans[k].c_str(), 100.0 * r.explained);
+                   name.c_str(), 100.0 * r.explained);
     }
     if (!a.out.empty()) {
       const std::string yaml =
-          sequence ? (fs::path(out_dir) / (fs::path(scans[k]).stem().string() + ".yaml")).string()
+          sequence ? (fs::path(out_dir) / (fs::path(name).stem().string() + ".yaml")).string()
                    : staged.file(a.out);
       write_text(yaml, yaml_report(r, a.dof));
     }
-    const double t = stamp_of(scans[k], k);
     if (a.all_poses || accepted_statuses.count(r.result.status) > 0) {
       trajectory.push_back({t, r.result.pose});
     }
     table.push_back(status_row(t, r));
+  };
+  for (std::size_t k = 0; k < scans.size(); ++k) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const pcl::PointCloud<pcl::PointXYZ> cloud = read_point_cloud(scans[k]);
+    const ObservationSet3 obs = observations_from_cloud(cloud, co);
+    const double read_ms =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    handle(scans[k], stamp_of(scans[k], k), obs, cloud.size(), read_ms, std::nullopt);
   }
+#ifdef VDTNAV_CLI_ROS
+  if (!a.bag.empty()) {
+    const std::unique_ptr<ros::BagReader> bag = ros::BagReader::open(a.bag);
+    ros::CloudSequenceOptions bo;
+    bo.cloud_topic = a.cloud_topic;
+    bo.odom_topic = a.odom_topic;
+    bo.imu_topic = a.imu_topic;
+    bo.odom_frame = a.odom_frame;
+    bo.base_frame = a.base_frame;
+    if (!a.lidar_pose.empty()) bo.lidar_pose = parse_pose3(a.lidar_pose, "--lidar-pose");
+    std::optional<Pose3> previous_odometry;
+    std::int64_t previous_stamp = 0;
+    const ros::CloudSequenceInfo info =
+        ros::read_cloud_sequence(*bag, bo, [&](const ros::CloudFrame& f) {
+          const auto t0 = std::chrono::steady_clock::now();
+          pcl::PointCloud<pcl::PointXYZ> cloud;
+          cloud.reserve(f.cloud.points.size());
+          for (const Eigen::Vector3d& p : f.cloud.points)
+            cloud.push_back(pcl::PointXYZ(static_cast<float>(p.x()), static_cast<float>(p.y()),
+                                          static_cast<float>(p.z())));
+          CloudObservationOptions fo = co;
+          fo.sensor_in_robot = f.mount;
+          const ObservationSet3 obs = observations_from_cloud(cloud, fo);
+          const double read_ms =
+              std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
+                  .count();
+          // The motion since the last cloud: the odometry's increment when there is odometry at
+          // both stamps (else constant velocity), with the IMU's roll and pitch when there is an
+          // IMU.
+          std::optional<OdometryStep3> motion;
+          if (f.odometry || std::isfinite(f.roll)) {
+            OdometryStep3 m;
+            m.delta = before_last.inverse() * last;
+            if (f.odometry && previous_odometry)
+              m.delta = previous_odometry->inverse() * *f.odometry;
+            m.dt = 1e-9 * static_cast<double>(f.stamp_ns - previous_stamp);
+            m.roll = f.roll;
+            m.pitch = f.pitch;
+            motion = m;
+          }
+          previous_odometry = f.odometry;
+          previous_stamp = f.stamp_ns;
+          char name[64];
+          std::snprintf(name, sizeof name, "%.6f", 1e-9 * static_cast<double>(f.stamp_ns));
+          handle(name, 1e-9 * static_cast<double>(f.stamp_ns), obs, f.cloud.points.size(), read_ms,
+                 motion);
+          return true;
+        });
+    std::fprintf(stderr, "[localize3d] %s: %zu clouds of %s, odometry %s, mounting %s%s%s\n",
+                 a.bag.c_str(), count, info.cloud_topic.c_str(), info.odometry_source.c_str(),
+                 info.mount_source.c_str(), info.imu_source.empty() ? "" : ", roll and pitch from ",
+                 info.imu_source.c_str());
+  }
+#endif
   if (sequence && !a.out.empty()) {
     save_tum_trajectory((fs::path(out_dir) / "trajectory.tum").string(), trajectory);
     std::string csv;
@@ -341,18 +422,18 @@ void run_localize3d(const Localize3dArgs& a) {
     std::fprintf(stderr,
                  "[localize3d] wrote %s/trajectory.tum (%zu of %zu poses: %s), status.csv and one "
                  "YAML per scan\n",
-                 a.out.c_str(), trajectory.size(), scans.size(),
+                 a.out.c_str(), trajectory.size(), count,
                  a.all_poses ? "every status" : a.accept_status.c_str());
   }
-  std::fprintf(stderr, "[localize3d] %zu scans: %zu converged, %zu not (%zu lost)\n", scans.size(),
+  std::fprintf(stderr, "[localize3d] %zu scans: %zu converged, %zu not (%zu lost)\n", count,
                accepted, refused, lost);
   if (accepted == 0) {
-    throw NotLocalized("localize3d: no scan of " + std::to_string(scans.size()) +
+    throw NotLocalized("localize3d: no scan of " + std::to_string(count) +
                        " localized (converged): the map does not explain them at the guess "
                        "(wrong map, --init, or try --multi-start)");
   }
   if (a.strict && lost > 0) {
-    throw NotLocalized("--strict: " + std::to_string(lost) + " of " + std::to_string(scans.size()) +
+    throw NotLocalized("--strict: " + std::to_string(lost) + " of " + std::to_string(count) +
                        " scans lost (the outputs are written)");
   }
 }
@@ -372,6 +453,28 @@ void add_localize3d_command(CLI::App& app) {
   cmd->add_option("--scan", args->scans, "Scan file(s) (.pcd .ply .vtk .csv .txt .xyz), in order")
       ->check(input_file("--scan"));
   cmd->add_option("--scans", args->scans_dir, "A folder of scans, localized in name order");
+#ifdef VDTNAV_CLI_ROS
+  cmd->add_option("--bag", args->bag,
+                  "ROS 1 bag (.bag) or ROS 2 bag folder: its sensor_msgs/PointCloud2 clouds, "
+                  "localized in stamp order (a sequence: --out is a folder)")
+      ->check(input_path("--bag"));
+  cmd->add_option("--cloud-topic", args->cloud_topic,
+                  "--bag: the PointCloud2 topic (default: the only one)");
+  cmd->add_option("--odom-topic", args->odom_topic,
+                  "--bag: a nav_msgs/Odometry topic, or 'none' (default: TF --odom-frame -> "
+                  "--base-frame when the bag has it, else the only Odometry topic, else none: "
+                  "constant velocity)");
+  cmd->add_option("--imu-topic", args->imu_topic,
+                  "--bag: a sensor_msgs/Imu topic whose orientation gives roll and pitch "
+                  "(the 4-DOF mode holds them)");
+  cmd->add_option("--odom-frame", args->odom_frame, "--bag: the odometry frame (REP 105)")
+      ->capture_default_str();
+  cmd->add_option("--base-frame", args->base_frame, "--bag: the robot's frame (REP 105)")
+      ->capture_default_str();
+  cmd->add_option("--lidar-pose", args->lidar_pose,
+                  "--bag: the LiDAR's pose x,y,z,roll,pitch,yaw in --base-frame when the bag has "
+                  "no transform to the clouds' frame");
+#endif
   cmd->add_option("--init", args->init,
                   "Initial guess x,y,z,roll,pitch,yaw (metres, radians; default identity)");
   cmd->add_option("--init-matrix", args->init_matrix,

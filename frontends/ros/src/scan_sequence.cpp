@@ -7,57 +7,16 @@
 #include <cmath>
 #include <limits>
 
+#include "topics.hpp"
 #include "vdtnav/core/error.hpp"
 #include "vdtnav/ros/transform_buffer.hpp"
 
 namespace vdtnav::ros {
 
-namespace {
-
-/// The topics of a given type (ROS 1 spelling compared), as "name (type)" for messages too.
-std::vector<const BagTopic*> topics_of(const BagReader& bag, const std::string& type) {
-  std::vector<const BagTopic*> out;
-  for (const BagTopic& t : bag.topics()) {
-    if (ros1_type_name(t.type) == type) out.push_back(&t);
-  }
-  return out;
-}
-
-std::string list_topics(const BagReader& bag) {
-  std::string s;
-  for (const BagTopic& t : bag.topics()) {
-    if (!s.empty()) s += ", ";
-    s += t.name + " (" + t.type + ", " + std::to_string(t.count) + ")";
-  }
-  return s.empty() ? "none" : s;
-}
-
-/// The topic named, checked to be of `type`; or the only one of that type.
-const BagTopic* pick_topic(const BagReader& bag, const std::string& name, const std::string& type,
-                           const std::string& flag, bool required) {
-  if (!name.empty()) {
-    for (const BagTopic& t : bag.topics()) {
-      if (t.name != name) continue;
-      if (ros1_type_name(t.type) != type) {
-        throw ConfigError(bag.path() + ": " + flag + " " + name + " is a " + t.type +
-                          " topic, not " + type);
-      }
-      return &t;
-    }
-    throw ConfigError(bag.path() + ": no topic " + name + " (" + flag +
-                      "); the bag has: " + list_topics(bag));
-  }
-  const auto found = topics_of(bag, type);
-  if (found.size() == 1) return found.front();
-  if (!required && found.empty()) return nullptr;
-  throw ConfigError(bag.path() + ": " +
-                    (found.empty() ? "no " + type + " topic"
-                                   : std::to_string(found.size()) + " " + type +
-                                         " topics: name one with " + flag) +
-                    "; the bag has: " + list_topics(bag));
-}
-
-}  // namespace
+using detail::list_topics;
+using detail::pick_topic;
+using detail::span_seconds;
+using detail::tf_topics_of;
 
 Pose2 planar(const Pose3& p) {
   const Eigen::Matrix3d& r = p.linear();
@@ -89,17 +48,8 @@ ScanSequence read_scan_sequence(const BagReader& bag, const ScanSequenceOptions&
   out.scan_topic = scan_topic->name;
   const BagTopic* odom_topic =
       pick_topic(bag, o.odom_topic, "nav_msgs/Odometry", "--odom-topic", false);
-  std::vector<std::string> tf_topics;
-  for (const BagTopic& t : bag.topics()) {
-    if (ros1_type_name(t.type) == "tf2_msgs/TFMessage" &&
-        (t.name == "/tf" || t.name == "/tf_static")) {
-      tf_topics.push_back(t.name);
-    }
-  }
-  double span = 60.0;
-  for (const BagTopic& t : bag.topics()) {
-    span = std::max(span, 1e-9 * static_cast<double>(t.last_ns - t.first_ns) + 60.0);
-  }
+  const std::vector<std::string> tf_topics = tf_topics_of(bag);
+  const double span = span_seconds(bag);
 
   // One pass: TF (and the odometry topic, as odom -> base transforms) into buffers, scans kept.
   TransformBuffer tf(span), odom_tf(span);
