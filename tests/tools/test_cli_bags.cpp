@@ -78,7 +78,16 @@ TEST(CliBags, LocalizesTheTurtlebotBagFromNoPriorWhereItsOdometryStarts) {
   const std::unique_ptr<ros::BagReader> reader = ros::BagReader::open(bag.string());
   const ros::ScanSequence seq = ros::read_scan_sequence(*reader, {});
   EXPECT_EQ(seq.scans.size() + seq.skipped_no_odometry, 357U);
-  EXPECT_EQ(lines_of(d / "olin.csv"), 1 + seq.scans.size());
+  // One pose-table row per input scan: those without odometry at their stamp too (no_odometry).
+  EXPECT_EQ(lines_of(d / "olin.csv"), 1U + 357U);
+  const std::string table = read_all(d / "olin.csv");
+  std::size_t without = 0;
+  for (std::size_t at = table.find(",no_odometry,"); at != std::string::npos;
+       at = table.find(",no_odometry,", at + 1)) {
+    ++without;
+  }
+  EXPECT_EQ(without, seq.skipped_no_odometry);
+  EXPECT_EQ(seq.skipped_no_odometry, 1U);  // the first scan comes before the first /tf
   // The first pose: the map frame is the odometry's within the README's 0.5 m / 4 degrees.
   const std::vector<StampedPose3> tum = load_tum_trajectory((d / "olin.tum").string()).poses;
   ASSERT_FALSE(tum.empty());

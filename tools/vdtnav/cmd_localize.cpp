@@ -3,6 +3,7 @@
 // time base (`--time-base logger|ipc`), the 3x3 covariance per scan as CSV, and figures. A run
 // in which the map explains almost no scan is a dead-reckoning trajectory: it is said on stderr,
 // and with --strict it fails.
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -63,6 +64,7 @@ struct ScanRun {
   std::vector<LaserScan> scans;
   std::vector<Pose2> odometry;
   std::optional<Pose2> first_pose;
+  std::vector<double> no_odometry;  // stamps of input scans without odometry (not localized)
 };
 
 ScanRun read_log_run(const LocalizeArgs& a) {
@@ -123,6 +125,9 @@ ScanRun read_bag_run(const LocalizeArgs& a) {
                                            : "");
   ScanRun run;
   run.input = a.bag;
+  for (double t : seq.skipped_times) {
+    if (a.window.contains(t)) run.no_odometry.push_back(t);
+  }
   for (std::size_t k = 0; k < seq.scans.size(); ++k) {
     if (!a.window.contains(seq.scans[k].time)) continue;
     run.times.push_back(seq.scans[k].time);
@@ -234,7 +239,7 @@ void run_localize(const LocalizeArgs& a) {
       init = r.result.pose;
       if (r.result.has_covariance) init_cov = r.result.covariance;
     }
-    --first;
+    if (started) --first;  // the scan accepted; without one, all `tries` were refused
     if (started && first > 0) {
       std::fprintf(stderr, "[localize] starting at scan %zu; the %zu before it are refused\n",
                    first, first);
@@ -294,6 +299,15 @@ void run_localize(const LocalizeArgs& a) {
     }
     if (!traj.flush()) throw IoError(a.out + ": write failed");
   }
+  // Input scans that had no odometry at their stamp: a row each too (status no_odometry).
+  for (double t : run.no_odometry) {
+    PoseRow row;
+    row.t = t;
+    row.status = "no_odometry";
+    rows.push_back(row);
+  }
+  std::stable_sort(rows.begin(), rows.end(),
+                   [](const PoseRow& x, const PoseRow& y) { return x.t < y.t; });
   if (!a.cov.empty()) {
     std::ofstream cov(cov_path);
     if (!cov) throw IoError(a.cov + ": cannot open for writing");

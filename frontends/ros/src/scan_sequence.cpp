@@ -122,6 +122,7 @@ ScanSequence read_scan_sequence(const BagReader& bag, const ScanSequenceOptions&
     const std::int64_t t = m.header.stamp_ns;
     if (!odom_source->can_lookup(parent, child, t)) {
       ++out.skipped_no_odometry;
+      out.skipped_times.push_back(static_cast<double>(t) * 1e-9);
       continue;
     }
     out.odometry.push_back(planar(odom_source->lookup(parent, child, t)));

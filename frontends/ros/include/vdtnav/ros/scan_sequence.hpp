@@ -46,6 +46,7 @@ struct ScanSequence {
   std::string odometry_source;          ///< "TF odom -> base_link" or "topic /odom"
   std::string mount_source;             ///< "TF base_link -> laser" or "--laser-pose"
   std::size_t skipped_no_odometry = 0;  ///< scans outside the odometry's time span
+  std::vector<double> skipped_times;    ///< their stamps, s
 };
 
 /// \brief Reads the run (see the file comment).
