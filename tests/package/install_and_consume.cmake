@@ -1,7 +1,8 @@
 # cmake -DBUILD_DIR=... -DWORK_DIR=... -DCONSUMER_DIR=... [-DCONSUME_PCL=ON] [-DCONSUME_OCTOMAP=ON]
-#       [-DCONSUME_UAV_CAMERA=ON] [-DCONSUME_RGBD_GROUND=ON] [-DCONSUME_ROS=ON]
+#       [-DCONSUME_UAV_CAMERA=ON] [-DCONSUME_RGBD_GROUND=ON] [-DCONSUME_ROS=ON] [-DROS_NODE=ON]
 #       -P install_and_consume.cmake
 # CONSUME_<FRONTEND>: also build and run the consumer of that front end (only when it was built).
+# ROS_NODE: roslaunch's resolver must find the installed vdtnav_localizer as package vdtnav.
 if(NOT DEFINED CONSUME_PCL)
   set(CONSUME_PCL OFF)
 endif()
@@ -49,6 +50,14 @@ if(CONSUME_RGBD_GROUND)
 endif()
 if(CONSUME_ROS)
   run(${WORK_DIR}/consumer/consumer_ros ${WORK_DIR}/not_a_bag.bag)
+endif()
+if(ROS_NODE)
+  # What roslaunch does for <node pkg="vdtnav" type="vdtnav_localizer">, with the prefix on the
+  # ROS paths as the README says.
+  run(${CMAKE_COMMAND} -E env ROS_PACKAGE_PATH=${prefix}/share CMAKE_PREFIX_PATH=${prefix}
+      /usr/bin/python3 -c
+      "import sys, roslib.packages as p; f = p.find_node('vdtnav', 'vdtnav_localizer'); \
+print(f); sys.exit(0 if f and f[0].startswith('${prefix}') else 1)")
 endif()
 # A component that does not exist must make a REQUIRED find fail.
 execute_process(COMMAND ${CMAKE_COMMAND} -S ${CONSUMER_DIR} -B ${WORK_DIR}/consumer_bad
