@@ -226,10 +226,16 @@ void run_localize(const LocalizeArgs& a) {
       scan.sigma_range = a.sigma_range;
       const GlobalLocalizationResult r = global.localize(scan_points(scan));
       const bool here = r.result.status == LocalizationStatus::kConverged;
+      // Ambiguous: the best pose and how many distinct others explain the scan as well.
+      char why[160] = "";
+      if (r.ambiguous) {
+        std::snprintf(why, sizeof why,
+                      ", ambiguous: best (%.2f, %.2f, %.2f), %zu other poses explain it as well",
+                      r.result.pose[0], r.result.pose[1], r.result.pose[2], r.alternatives.size());
+      }
       std::fprintf(stderr,
                    "[localize] --init global, scan %zu: %s (%.0f %% explained%s) in %.3f s\n",
-                   first, here ? "accepted" : "refused", 100.0 * r.explained,
-                   r.ambiguous ? ", ambiguous" : "", r.seconds);
+                   first, here ? "accepted" : "refused", 100.0 * r.explained, why, r.seconds);
       if (!here) {
         rows[first].status = status_token(LocalizationStatus::kRefused);
         rows[first].explained = r.explained;
