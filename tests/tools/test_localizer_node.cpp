@@ -215,7 +215,8 @@ class LocalizerNode : public ::testing::Test {
 
   /// Starts the node on the bag's map, at kInit (kParameters, kTopics), plays the bag at `rate`,
   /// and gathers what the graph carries until the node falls silent.
-  void play(double rate, Heard& heard, Start start = Start::kParameters) {
+  void play(double rate, Heard& heard, Start start = Start::kParameters,
+            const std::vector<std::string>& extra = {}) {
     const std::string name = "run_" + std::to_string(static_cast<int>(rate)) + "_" +
                              std::to_string(static_cast<int>(start));
     std::vector<std::string> args = {VDTNAV_LOCALIZER, "_laser_pose:=0,0,0", "_update_min_d:=0.0",
@@ -247,7 +248,8 @@ class LocalizerNode : public ::testing::Test {
         args.push_back(a);
       }
     }
-    const fs::path log = *dir_ / (name + "_node.log");
+    args.insert(args.end(), extra.begin(), extra.end());
+    const fs::path log = *dir_ / (name + (extra.empty() ? "" : "_extra") + "_node.log");
     Child node(args, log);
     ASSERT_TRUE(wait_subscribed("/vdtnav_localizer", {"/scan", "/tf"}, 60.0))
         << "the node did not subscribe; its log: " << read(log);
@@ -388,9 +390,11 @@ ros::AsyncSpinner* LocalizerNode::spinner_ = nullptr;
 /// The node's poses against the CLI's: the same scans converged, each pose within 1 cm and
 /// 0.5 deg, the covariance in rows and columns 0, 1, 5 of the 6x6.
 void expect_equal_to_cli(const Heard& heard, const std::vector<CliRow>& rows,
-                         const std::map<std::int64_t, std::vector<double>>& tum) {
+                         const std::map<std::int64_t, std::vector<double>>& tum,
+                         bool same_scans = true) {
   std::size_t converged = 0, matched = 0;
   double worst_d = 0.0, worst_a = 0.0;
+  std::vector<double> ds, as;
   for (const CliRow& r : rows) {
     if (r.status != "converged") continue;
     ++converged;
@@ -412,12 +416,16 @@ void expect_equal_to_cli(const Heard& heard, const std::vector<CliRow>& rows,
     const double a = std::abs(std::remainder(yaw_node - yaw_cli, 2.0 * M_PI));
     worst_d = std::max(worst_d, d);
     worst_a = std::max(worst_a, a);
-    EXPECT_LE(d, 0.01) << "scan at " << r.t;
-    EXPECT_LE(a, 0.5 * M_PI / 180.0) << "scan at " << r.t;
+    ds.push_back(d);
+    as.push_back(a);
+    if (same_scans) {
+      EXPECT_LE(d, 0.01) << "scan at " << r.t;
+      EXPECT_LE(a, 0.5 * M_PI / 180.0) << "scan at " << r.t;
+    }
     // 6x6 row-major over x, y, z, roll, pitch, yaw: x, y, yaw are rows and columns 0, 1, 5.
     const auto& c = p.pose.covariance;
     const double expected[6] = {c[0], c[1], c[5], c[7], c[11], c[35]};
-    for (int k = 0; k < 6; ++k) {
+    for (int k = 0; k < 6 && same_scans; ++k) {
       EXPECT_NEAR(expected[k], r.cov[k], 1e-3 * std::abs(r.cov[k]) + 1e-9)
           << "covariance entry " << k << " at " << r.t;
     }
@@ -429,6 +437,20 @@ void expect_equal_to_cli(const Heard& heard, const std::vector<CliRow>& rows,
   std::printf("node vs CLI: %zu of %zu converged scans matched; worst %.4f m, %.4f deg\n", matched,
               converged, worst_d, worst_a * 180.0 / M_PI);
   EXPECT_GT(converged, 100U);
+  if (!same_scans) {
+    // Another odometry guess: where the scan leaves the position along a corridor loose, the
+    // solve ends elsewhere; most poses stay put.
+    std::sort(ds.begin(), ds.end());
+    std::sort(as.begin(), as.end());
+    const std::size_t p90 = ds.size() * 9 / 10;
+    std::printf("  median %.4f m / %.4f deg, 90th percentile %.4f m / %.4f deg\n",
+                ds[ds.size() / 2], as[as.size() / 2] * 180.0 / M_PI, ds[p90],
+                as[p90] * 180.0 / M_PI);
+    EXPECT_LE(ds[p90], 0.01);
+    EXPECT_LE(as[p90], 0.5 * M_PI / 180.0);
+    EXPECT_GE(static_cast<double>(matched), 0.75 * static_cast<double>(converged));
+    return;
+  }
   EXPECT_EQ(matched, converged) << "the node did not publish every pose the CLI converged";
   EXPECT_EQ(heard.poses.size(), converged) << "the node published poses the CLI did not converge";
 }
@@ -495,6 +517,21 @@ TEST_F(LocalizerNode, KeepsUpWithTheBagPlayedTenTimesFaster) {
   // Every scan heard, none dropped by a queue: the same poses as at the bag's rate.
   EXPECT_EQ(heard.scan_arrival.size(), 311U);
   expect_equal_to_cli(heard, rows, tum);
+}
+
+// odom_extrapolation: a scan is localized when it arrives, on the odometry carried from its last
+// sample to the scan's stamp; the latency is then the localization's, and nine in ten poses stay
+// within 1 cm and 0.5 deg of the CLI's (which interpolates the odometry).
+TEST_F(LocalizerNode, WithOdometryExtrapolationMostPosesStayWhereTheClisAre) {
+  Heard heard;
+  play(1.0, heard, Start::kParameters, {"_odom_extrapolation:=0.2"});
+  if (HasFatalFailure()) return;
+  std::vector<CliRow> rows;
+  std::map<std::int64_t, std::vector<double>> tum;
+  run_cli(rows, tum);
+  if (HasFatalFailure()) return;
+  print_latencies(heard, 1.0);
+  expect_equal_to_cli(heard, rows, tum, false);
 }
 
 TEST_F(LocalizerNode, TakesTheMapFromItsTopicAndTheStartFromInitialpose) {

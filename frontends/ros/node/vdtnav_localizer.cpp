@@ -168,7 +168,7 @@ class LocalizerNode {
     pnh_.param("initial_cov_yy", initial_cov_[1], 0.5 * 0.5);
     pnh_.param("initial_cov_aa", initial_cov_[2], (kPi / 12.0) * (kPi / 12.0));
     // vdtnav's own: the settings file, the method, a map file, the scanner's mounting when TF
-    // lacks it, the range noise.
+    // lacks it, the range noise, how far the odometry may be extrapolated to a scan's stamp.
     pnh_.param<std::string>("config", config_, "");
     pnh_.param<std::string>("method", options_.method, "vdt-opt");
     pnh_.param<std::string>("map_file", map_file_, "");
@@ -176,6 +176,7 @@ class LocalizerNode {
     pnh_.param<std::string>("laser_pose", laser_pose, "");
     options_.laser_pose = parse_pose_param(laser_pose, "laser_pose");
     pnh_.param("sigma_range", options_.sigma_range, 0.02);
+    pnh_.param("odom_extrapolation", options_.odom_extrapolation, 0.0);
     settings_ = vdtnav::log_settings();
     if (!config_.empty()) settings_ = vdtnav::load_localizer_config(config_, settings_);
 

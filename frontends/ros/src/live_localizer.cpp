@@ -121,9 +121,8 @@ std::vector<LiveEstimate> LiveLocalizer::drain() {
   std::vector<std::pair<LaserScanMsg, Pose2>> ready;
   while (!queue_.empty()) {
     const std::int64_t t = queue_.front().header.stamp_ns;
-    if (tf_.can_lookup(options_.odom_frame, options_.base_frame, t)) {
-      ready.emplace_back(std::move(queue_.front()),
-                         planar(tf_.lookup(options_.odom_frame, options_.base_frame, t)));
+    if (const std::optional<Pose2> odometry = odometry_at(t)) {
+      ready.emplace_back(std::move(queue_.front()), *odometry);
       queue_.pop_front();
       continue;
     }
@@ -154,6 +153,25 @@ std::vector<LiveEstimate> LiveLocalizer::drain() {
     out.push_back(localize(ready[k].first, ready[k].second));
   }
   return out;
+}
+
+std::optional<Pose2> LiveLocalizer::odometry_at(std::int64_t t) const {
+  const std::string& odom = options_.odom_frame;
+  const std::string& base = options_.base_frame;
+  if (tf_.can_lookup(odom, base, t)) return planar(tf_.lookup(odom, base, t));
+  if (!(options_.odom_extrapolation > 0.0)) return std::nullopt;
+  // A scan newer than the odometry: constant velocity over the last 0.1 s, carried to its stamp.
+  const std::optional<std::int64_t> latest = tf_.latest_stamp(odom, base);
+  const std::int64_t span = 100'000'000;
+  if (!latest || *latest == 0 || t < *latest ||
+      static_cast<double>(t - *latest) * 1e-9 > options_.odom_extrapolation ||
+      !tf_.can_lookup(odom, base, *latest - span)) {
+    return std::nullopt;
+  }
+  const Pose2 now = planar(tf_.lookup(odom, base, *latest));
+  const Pose2 before = planar(tf_.lookup(odom, base, *latest - span));
+  const double f = static_cast<double>(t - *latest) / static_cast<double>(span);
+  return compose(now, f * between(before, now));
 }
 
 std::optional<Pose2> LiveLocalizer::mount_for(const LaserScanMsg& msg) {

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <limits>
 #include <map>
+#include <optional>
 #include <set>
 
 #include <geometry_msgs/TransformStamped.h>
@@ -111,6 +112,18 @@ Pose3 TransformBuffer::lookup(const std::string& parent, const std::string& chil
   } catch (const tf2::TransformException& e) {
     throw ConfigError("no transform " + strip_slash(parent) + " -> " + strip_slash(child) + " at " +
                       stamp_text(stamp_ns) + " (" + e.what() + "); the frames: " + describe());
+  }
+}
+
+std::optional<std::int64_t> TransformBuffer::latest_stamp(const std::string& parent,
+                                                          const std::string& child) const {
+  try {
+    // Time 0: tf2 answers at the latest time the whole chain is known, and stamps it so.
+    const geometry_msgs::TransformStamped m =
+        impl_->core.lookupTransform(strip_slash(parent), strip_slash(child), ::ros::Time(0));
+    return static_cast<std::int64_t>(m.header.stamp.toNSec());
+  } catch (const tf2::TransformException&) {
+    return std::nullopt;
   }
 }
 

@@ -198,5 +198,29 @@ TEST_F(LiveStream, GlobalLocalizationFindsThePoseWithoutAPrior) {
   expect_near(e[0].map_to_odom, kMapToOdom, 0.02, 0.01);
 }
 
+TEST_F(LiveStream, WithOdometryExtrapolationAScanNewerThanTheOdometryIsLocalizedAtOnce) {
+  LiveLocalizerOptions o;
+  o.odom_extrapolation = 0.2;
+  LiveLocalizer loc(map, log_settings(), o);
+  ASSERT_TRUE(loc.add_transforms(mounting(), true).empty());
+  // The robot drives at 0.5 m/s and 0.2 rad/s; odometry at 20 Hz, the scan 80 ms after the last.
+  const auto truth_at = [](double s) { return Pose2(3.0 + 0.5 * s, 3.0, 0.2 * s); };
+  loc.set_pose(truth_at(0.0), Eigen::Vector3d(1e-4, 1e-4, 1e-4).asDiagonal());
+  for (int k = 0; k <= 10; ++k) {
+    ASSERT_TRUE(loc.add_transforms(odometry(truth_at(0.05 * k), kSecond / 20 * k), false).empty());
+  }
+  const std::int64_t t = kSecond / 2 + 80'000'000;
+  const std::vector<LiveEstimate> e = loc.add_scan(render(grid, truth_at(0.58), t));
+  ASSERT_EQ(e.size(), 1U);
+  EXPECT_EQ(e[0].event, LiveEstimate::Event::kLocalized);
+  EXPECT_EQ(e[0].result.status, LocalizationStatus::kConverged);
+  expect_near(e[0].result.pose, truth_at(0.58), 0.01, 0.005);
+  // The odometry carried 80 ms past its last sample: the robot's odom pose at the stamp.
+  expect_near(e[0].odometry, between(kMapToOdom, truth_at(0.58)), 0.002, 0.002);
+  // Beyond odom_extrapolation the scan waits, as without it.
+  EXPECT_TRUE(loc.add_scan(render(grid, truth_at(0.8), kSecond * 8 / 10)).empty());
+  EXPECT_EQ(loc.waiting(), 1U);
+}
+
 }  // namespace
 }  // namespace vdtnav::ros

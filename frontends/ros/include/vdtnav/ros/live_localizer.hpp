@@ -16,6 +16,9 @@
 /// - no_pose: no initial pose yet (set_pose() or start_global());
 /// - no_odometry: the odometry is not known at the stamp and will not be (transforms newer than
 ///   the stamp arrived without connecting odom -> base, or more than max_queue scans wait).
+/// With odom_extrapolation > 0 a scan up to that much newer than the odometry is localized at
+/// once, on the odometry extrapolated to its stamp (lower latency, poses no longer bit-equal to
+/// the CLI's).
 /// While a global localization is pending only the newest waiting scan is searched: the search
 /// costs more than a scan period, and the older scans are no_pose.
 
@@ -52,6 +55,11 @@ struct LiveLocalizerOptions {
   /// Initial standard deviations (x, y, yaw) where no covariance is known: a pose found by a
   /// global search without one, or the last pose carried onto a new map (set_map()).
   Eigen::Vector3d init_sigma{0.1, 0.1, 0.05};
+  /// Seconds a scan may be newer than the newest odometry and still be localized at once, with
+  /// the odometry extrapolated at the velocity of its last 0.1 s. 0 (the default): a scan waits
+  /// for the odometry after its stamp, as amcl does, and the poses are those of `vdtnav
+  /// localize --bag`; a node's latency then includes that wait (up to one odometry period).
+  double odom_extrapolation = 0.0;
   std::size_t max_queue = 200;  ///< scans that may wait for their odometry
   double tf_span = 30.0;        ///< seconds of transforms kept
 };
@@ -112,6 +120,7 @@ class LiveLocalizer {
   std::vector<LiveEstimate> drain();
   LiveEstimate localize(const LaserScanMsg& msg, const Pose2& odometry);
   [[nodiscard]] std::optional<Pose2> mount_for(const LaserScanMsg& msg);
+  [[nodiscard]] std::optional<Pose2> odometry_at(std::int64_t stamp) const;
 
   RosMap map_;
   LocalizerSettings settings_;

@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -38,6 +39,10 @@ class TransformBuffer {
   /// the stamp and the frames the buffer holds (with their parents) when it is not known.
   [[nodiscard]] Pose3 lookup(const std::string& parent, const std::string& child,
                              std::int64_t stamp_ns) const;
+  /// \return the latest stamp at which `child`'s pose in `parent` is known (a static chain: 0);
+  /// none when the frames are not connected.
+  [[nodiscard]] std::optional<std::int64_t> latest_stamp(const std::string& parent,
+                                                         const std::string& child) const;
   /// \return whether the two frames are connected at all (at some time).
   [[nodiscard]] bool connected(const std::string& parent, const std::string& child) const;
 
