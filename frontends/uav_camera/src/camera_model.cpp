@@ -83,27 +83,17 @@ void check_camera(const std::string& path, const CameraCalibration& c, std::size
 
 // --- OpenCV FileStorage ----------------------------------------------------------------------
 
-CameraCalibration read_opencv(const std::string& path, std::string text) {
-  // OpenCV's YAML parser wants its own "%YAML:1.0" directive; files written by other tools have
-  // none or the standard "%YAML 1.x" one. Replace whatever directive there is.
-  const bool xml =
-      text.compare(0, 5, "<?xml") == 0 || text.find("<opencv_storage>") != std::string::npos;
-  if (!xml) {
-    if (text.compare(0, 5, "%YAML") == 0) {
-      const auto eol = text.find('\n');
-      text.erase(0, eol == std::string::npos ? text.size() : eol + 1);
-    }
-    text = "%YAML:1.0\n" + text;
-  }
+CameraCalibration read_opencv(const std::string& path, const std::string& text) {
+  // XML only: OpenCV's YAML files are read by yaml-cpp (read_calibration()).
   cv::FileStorage fs;
   try {
     fs.open(text, cv::FileStorage::READ | cv::FileStorage::MEMORY);
   } catch (const std::exception& e) {
     // cv::Exception, and std::length_error from OpenCV's parser on some malformed keys (found
     // by fuzzing, fuzz/regressions/camera_calibration-opencv-length-error.yml).
-    throw FormatError(path, 0, std::string("not a readable OpenCV YAML/XML file: ") + e.what());
+    throw FormatError(path, 0, std::string("not a readable OpenCV XML file: ") + e.what());
   }
-  if (!fs.isOpened()) throw FormatError(path, 0, "not a readable OpenCV YAML/XML file");
+  if (!fs.isOpened()) throw FormatError(path, 0, "not a readable OpenCV XML file");
   if (!fs.root().isMap()) throw FormatError(path, 0, "expected a map of keys at the top level");
 
   CameraCalibration c;
@@ -210,7 +200,9 @@ std::vector<double> ros_matrix(const std::string& path, const YAML::Node& root, 
   return data;
 }
 
-CameraCalibration read_ros(const std::string& path, const std::string& text) {
+/// A ROS camera_info file, or an OpenCV YAML file (the same keys; its matrices are tagged
+/// !!opencv-matrix and carry a dt key, which are ignored).
+CameraCalibration read_yaml(const std::string& path, const std::string& text) {
   YAML::Node root;
   try {
     root = YAML::Load(text);
@@ -218,7 +210,10 @@ CameraCalibration read_ros(const std::string& path, const std::string& text) {
     throw FormatError(path, e.mark.line >= 0 ? static_cast<std::size_t>(e.mark.line + 1) : 0,
                       "YAML syntax error: " + e.msg);
   }
-  if (!root.IsMap()) throw FormatError(path, 0, "expected a YAML map (ROS camera_info)");
+  if (!root.IsMap()) {
+    throw FormatError(path, line_of(root),
+                      "expected a YAML map (OpenCV calibration or ROS camera_info)");
+  }
   CameraCalibration c;
   auto read_int = [&](const char* key) {
     const YAML::Node n = root[key];
@@ -274,21 +269,24 @@ CameraCalibration read_ros(const std::string& path, const std::string& text) {
 
 CameraCalibration read_calibration(const std::string& path) {
   std::string text = read_text(path);
-  // OpenCV's files tag their matrices "!!opencv-matrix" (YAML) or are XML; camera_info files
-  // write camera_matrix as a plain {rows, cols, data} map.
-  const bool opencv =
-      text.find("opencv-matrix") != std::string::npos || text.compare(0, 5, "<?xml") == 0 ||
-      text.find("<opencv_storage>") != std::string::npos || text.compare(0, 9, "%YAML:1.0") == 0;
-  if (!opencv) return read_ros(path, text);
+  const bool xml =
+      text.compare(0, 5, "<?xml") == 0 || text.find("<opencv_storage>") != std::string::npos;
+  if (!xml) {
+    // OpenCV's YAML files (first line "%YAML:1.0", matrices tagged !!opencv-matrix) and ROS
+    // camera_info files have the same keys: both are read by yaml-cpp. OpenCV's own YAML parser
+    // hangs, throws std::length_error and allocates what a corrupt size claims on malformed input
+    // (found by fuzzing: fuzz/regressions/camera_calibration-opencv-*.yml). Its non-standard
+    // directive becomes a comment, so that line numbers stay those of the file.
+    if (text.compare(0, 5, "%YAML") == 0) text.insert(0, "# ");
+    return read_yaml(path, text);
+  }
   try {
-    return read_opencv(path, std::move(text));
+    return read_opencv(path, text);
   } catch (const Error&) {
     throw;
   } catch (const std::exception& e) {
-    // OpenCV asserts as it reads nodes (found by fuzzing: a root that is not a map,
-    // fuzz/regressions/camera_calibration-opencv-root-not-a-map.yml): any other exception is bad
-    // input too.
-    throw FormatError(path, 0, std::string("not a readable OpenCV YAML/XML file: ") + e.what());
+    // OpenCV asserts as it reads nodes: any other exception is bad input too.
+    throw FormatError(path, 0, std::string("not a readable OpenCV XML file: ") + e.what());
   }
 }
 

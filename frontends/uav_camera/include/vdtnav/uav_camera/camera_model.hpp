@@ -23,8 +23,9 @@ struct CameraCalibration {
 };
 
 /// \brief Reads a calibration file: OpenCV's FileStorage YAML/XML (camera_matrix as an
-/// opencv-matrix) or a ROS camera_info YAML (camera_matrix: {rows, cols, data}), told apart by
-/// their content.
+/// opencv-matrix) or a ROS camera_info YAML (camera_matrix: {rows, cols, data}). The YAML files
+/// of both kinds are read by yaml-cpp (the keys are the same; OpenCV's "%YAML:1.0" directive and
+/// !!opencv-matrix tags are passed over), XML by OpenCV.
 /// \throws IoError when the file cannot be read, FormatError (file and what was expected) when a
 /// key is missing or malformed, or the values are not a usable camera (fx, fy <= 0, size <= 0).
 [[nodiscard]] CameraCalibration read_calibration(const std::string& path);
