@@ -43,7 +43,7 @@ struct LiveLocalizer::MapState {
   std::unique_ptr<VdtMap2> vdt;
   MapKnowledge knowledge;
   std::unique_ptr<Localizer2D> localizer;
-  std::unique_ptr<GlobalLocalizer> global;  // built at the first start_global()
+  std::unique_ptr<GlobalLocalizer> global;  // built at the first search on this map
 };
 
 LiveLocalizer::LiveLocalizer(RosMap map, const LocalizerSettings& settings,
@@ -85,12 +85,6 @@ void LiveLocalizer::set_pose(const Pose2& pose, const Eigen::Matrix3d& covarianc
 }
 
 void LiveLocalizer::start_global() {
-  if (!state_->global) {
-    GlobalLocalizationOptions g = settings_.global;
-    g.optimizer = settings_.vdt_opt;
-    state_->global =
-        std::make_unique<GlobalLocalizer>(*state_->vdt, state_->occupancy, g, state_->knowledge);
-  }
   global_pending_ = true;
   pending_reset_.reset();
   tracking_ = false;
@@ -211,6 +205,13 @@ LiveEstimate LiveLocalizer::localize(const LaserScanMsg& msg, const Pose2& odome
     pending_reset_.reset();
     tracking_ = true;
   } else if (global_pending_) {
+    // Built at the first search on this map (a new map, set_map(), starts without one).
+    if (!state_->global) {
+      GlobalLocalizationOptions o = settings_.global;
+      o.optimizer = settings_.vdt_opt;
+      state_->global =
+          std::make_unique<GlobalLocalizer>(*state_->vdt, state_->occupancy, o, state_->knowledge);
+    }
     const GlobalLocalizationResult g = state_->global->localize(scan_points(scan));
     if (g.result.status != LocalizationStatus::kConverged) {
       e.event = LiveEstimate::Event::kLocalized;

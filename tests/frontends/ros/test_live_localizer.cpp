@@ -188,6 +188,8 @@ TEST_F(LiveStream, GlobalLocalizationFindsThePoseWithoutAPrior) {
   loc.set_pose(Pose2(1.0, 1.0, 0.0), Eigen::Matrix3d::Identity());  // a wrong start ...
   loc.start_global();                                               // ... forgotten
   EXPECT_TRUE(loc.global_pending());
+  loc.set_map(room());  // a map arriving while the search is pending: searched on the new one
+  EXPECT_TRUE(loc.global_pending());
   (void)loc.add_scan(render(grid, truth, 3 * kSecond / 10));
   e = loc.add_transforms(odometry(truth, 4 * kSecond / 10), false);
   ASSERT_EQ(e.size(), 1U);
