@@ -26,7 +26,7 @@ void BM_RgbdBoundaries(benchmark::State& state) {
     state.SkipWithError(("real data absent: " + dir).c_str());
     return;
   }
-  uav_camera::CameraCalibration cal;
+  camera::CameraCalibration cal;
   cal.width = 640;
   cal.height = 480;
   cal.camera_matrix << 518.0, 0.0, 325.5, 0.0, 519.0, 253.5, 0.0, 0.0, 1.0;
@@ -35,7 +35,7 @@ void BM_RgbdBoundaries(benchmark::State& state) {
       rgbd_ground::tilted_camera(Eigen::Vector3d(0.0, 0.0, 1.4), 0.0, 25.0 * M_PI / 180.0);
   rgbd_ground::GroundBoundaryOptions o;
   o.plane.max_tilt = 0.6;
-  const rgbd_ground::GroundBoundaryExtractor ex(uav_camera::PinholeCamera(cal), nominal, o);
+  const rgbd_ground::GroundBoundaryExtractor ex(camera::PinholeCamera(cal), nominal, o);
   std::vector<rgbd_ground::RgbdFrame> frames;
   for (int i = 1; i <= 5; ++i) {
     frames.push_back(rgbd_ground::read_rgbd_frame(dir + "/color/" + std::to_string(i) + ".png",

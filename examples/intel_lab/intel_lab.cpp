@@ -14,79 +14,26 @@
 //      NEES of the methods with a covariance (`vdtnav eval --relations R --cov C`); count the
 //      scans each method reports lost (status kLost: flagged_lost).
 // Writes table.csv, table.md and PNGs (map, trajectories, reprojected scans, errors over time).
+//
+// The study's machinery is in method_runs.cpp, tables.cpp and figures.cpp (intel_study.hpp).
 #include <CLI/CLI.hpp>
 
 #include <chrono>
-#include <cmath>
 #include <cstdio>
-#include <ctime>
 #include <filesystem>
 #include <fstream>
-#include <memory>
+#include <iterator>
 #include <string>
 #include <vector>
 
-#include "vdtnav/estimation/localizer_factory.hpp"
-#include "vdtnav/eval/nees.hpp"
-#include "vdtnav/eval/relation_metric.hpp"
-#include "vdtnav/eval/relation_nees.hpp"
-#include "vdtnav/eval/trajectory_metrics.hpp"
+#include "intel_study.hpp"
 #include "vdtnav/io/carmen_log.hpp"
 #include "vdtnav/io/log_odometry.hpp"
-#include "vdtnav/io/odometry_table.hpp"
 #include "vdtnav/io/relations.hpp"
 #include "vdtnav/io/ros_map.hpp"
 #include "vdtnav/io/tum_trajectory.hpp"
-#include "vdtnav/mapping/occupancy_mapper.hpp"
-#include "vdtnav/viz/viz.hpp"
 
-namespace {
-
-using namespace vdtnav;
-using Clock = std::chrono::steady_clock;
-constexpr double kRadToDeg = 57.29577951308232;
-
-struct Row {
-  std::string method;
-  eval::RelationMetricResult rel;
-  eval::AteResult ate;
-  eval::RpeResult rpe;
-  std::size_t lost = 0, scans = 0;  ///< lost: farther than 0.5 m from the corrected pose
-  std::size_t flagged_lost = 0;     ///< reported lost (status kLost)
-  bool has_cov = false;
-  eval::AneesResult anees;
-  eval::RelationNeesResult rel_nees;  ///< relations whose both ends have a covariance
-  double ms_mean = 0.0, ms_max = 0.0, wall_s = 0.0;
-  /// The slowest update's processor time (std::clock): its own work, without the time other
-  /// processes of a shared machine took from it (ms_max, wall time, includes that).
-  double cpu_ms_max = 0.0;
-  std::vector<Pose2> poses;
-  std::vector<Eigen::Matrix3d> cov;
-};
-
-viz::RgbImage ros_image(const Grid<std::int8_t, 2>& cells) {
-  const int w = cells.size().x(), h = cells.size().y();
-  viz::RgbImage img(w, h);
-  for (int j = 0; j < h; ++j) {
-    for (int i = 0; i < w; ++i) {
-      const int v = cells(Eigen::Vector2i(i, j));
-      const auto g = static_cast<std::uint8_t>(v < 0 ? 205 : (v >= 65 ? 0 : 255));
-      img.set(i, h - 1 - j, {g, g, g});
-    }
-  }
-  return img;
-}
-
-void map_axes(viz::Axes& ax, const Grid<std::int8_t, 2>& cells) {
-  const auto& f = cells.frame();
-  ax.image(ros_image(cells), f.origin().x(), f.origin().x() + cells.size().x() * f.resolution(),
-           f.origin().y(), f.origin().y() + cells.size().y() * f.resolution())
-      .equal_aspect()
-      .xlabel("x [m]")
-      .ylabel("y [m]");
-}
-
-}  // namespace
+using namespace intel_study;
 
 int main(int argc, char** argv) {
   CLI::App app{"The Intel Research Lab study: map from the last third, localize the first two"};
@@ -162,205 +109,20 @@ int main(int argc, char** argv) {
       r.scans = split;
       rows.push_back(r);
     }
+    const Localization in{logs, split, sigma_range, times, reference, steps, relations, ro};
     const LocalizerSettings settings = log_settings();
     const Eigen::Matrix3d p0 = Eigen::Vector3d(0.1 * 0.1, 0.1 * 0.1, 0.05 * 0.05).asDiagonal();
     for (const std::string& method : methods) {
-      std::unique_ptr<Localizer2D> loc =
-          make_localizer(method, vdt, map.occupancy, settings, MapKnowledge(map.cells));
-      loc->reset(logs.corrected.lasers[0].pose, p0);
-      Row r;
-      r.method = method;
-      r.scans = split;
-      eval::Trajectory2 est;
-      std::vector<double> nees;
-      std::vector<Eigen::Matrix3d> est_cov;  // NaN where the scan has no covariance
-      const auto w0 = Clock::now();
-      for (std::size_t k = 0; k < split; ++k) {
-        LaserScan scan = logs.raw.lasers[k].scan;
-        scan.sigma_range = sigma_range;
-        const auto t0 = Clock::now();
-        const std::clock_t c0 = std::clock();
-        const LocalizationResult res = loc->update(steps[k], scan);
-        const double ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-        r.ms_mean += ms / static_cast<double>(split);
-        r.ms_max = std::max(r.ms_max, ms);
-        r.cpu_ms_max = std::max(r.cpu_ms_max, 1e3 * static_cast<double>(std::clock() - c0) /
-                                                  static_cast<double>(CLOCKS_PER_SEC));
-        r.poses.push_back(res.pose);
-        r.cov.push_back(res.covariance);
-        est.push_back({times[k], res.pose});
-        est_cov.push_back(res.has_covariance ? res.covariance
-                                             : Eigen::Matrix3d::Constant(std::nan("")));
-        if ((res.pose.head<2>() - reference[k].pose.head<2>()).norm() > 0.5) ++r.lost;
-        if (res.status == LocalizationStatus::kLost) ++r.flagged_lost;
-        if (res.has_covariance) {
-          r.has_cov = true;
-          nees.push_back(eval::nees(res.pose, reference[k].pose, res.covariance));
-        }
-      }
-      r.wall_s = std::chrono::duration<double>(Clock::now() - w0).count();
-      r.rel = eval::relation_metric(est, relations, ro);
-      r.ate = eval::absolute_trajectory_error(est, reference);
-      r.rpe = eval::relative_pose_error(est, reference);
-      if (r.has_cov) {
-        r.anees = eval::anees(nees, 3);
-        r.rel_nees = eval::relation_nees(est, est_cov, relations);  // exact stamps, as ro
-      }
-      std::vector<StampedPose3> tum;
-      for (const auto& s : est) tum.push_back({s.t, pose3_from_pose2(s.pose)});
-      save_tum_trajectory(out + "/traj_" + method + ".tum", tum);
-      std::printf(
-          "[intel] %-8s relations %zu: %.4f m / %.3f deg, ATE %.4f m, %zu scans off by > 0.5 m, "
-          "%zu flagged lost, %.3f ms per scan (max %.1f), %.3f s wall\n",
-          method.c_str(), r.rel.used, r.rel.translation.mean, r.rel.rotation.mean * kRadToDeg,
-          r.ate.unaligned_translation.rmse, r.lost, r.flagged_lost, r.ms_mean, r.ms_max, r.wall_s);
-      rows.push_back(std::move(r));
+      rows.push_back(localize_method(method, vdt, map, settings, p0, in, out));
     }
 
     // 4. Tables.
     std::ofstream csv(out + "/table.csv");
-    csv << "method,relations,rel_trans_mean_m,rel_trans_std_m,rel_rot_mean_deg,rel_rot_std_deg,"
-           "rel_trans2_mean_m2,rel_rot2_mean_deg2,ate_rmse_m,ate_aligned_rmse_m,ate_rot_rmse_deg,"
-           "rpe_trans_rmse_m,rpe_rot_rmse_deg,lost,scans,has_cov,anees,anees_lo,anees_hi,ms_mean,"
-           "ms_max,wall_s,rel_nees_used,rel_nees_skipped_no_cov,rel_nees_mean,rel_nees_median,"
-           "rel_nees_inside_7.81,flagged_lost,cpu_ms_max,anees_left_out\n";
     std::ofstream md(out + "/table.md");
-    md << "Intel Research Lab: map from scans " << split << ".." << n - 1
-       << " (corrected poses), localization of scans 0.." << split - 1
-       << " with raw odometry. Relations: both ends localized scans (exact stamps).\n\n"
-       << "| method | relations | trans. err. (m) | rot. err. (deg) | ATE (m) | RPE (m / deg) | "
-          "off > 0.5 m | flagged lost | ANEES [95 %] | relation NEES: n, mean, median, ≤ 7.81 | "
-          "ms/scan (max) | wall (s) |\n"
-       << "|---|---|---|---|---|---|---|---|---|---|---|---|\n";
-    for (const Row& r : rows) {
-      char b[1024];
-      const bool loc = r.ate.ok();
-      std::snprintf(
-          b, sizeof b,
-          "%s,%zu,%.6f,%.6f,%.4f,%.4f,%.8f,%.6f,%.6f,%.6f,%.4f,%.6f,%.4f,%zu,%zu,%d,%.4f,"
-          "%.4f,%.4f,%.4f,%.4f,%.4f,%zu,%zu,%.4f,%.4f,%.4f,%zu,%.3f,%zu\n",
-          r.method.c_str(), r.rel.used, r.rel.translation.mean, r.rel.translation.std,
-          r.rel.rotation.mean * kRadToDeg, r.rel.rotation.std * kRadToDeg,
-          r.rel.translation_squared.mean, r.rel.rotation_squared.mean * kRadToDeg * kRadToDeg,
-          loc ? r.ate.unaligned_translation.rmse : 0.0, loc ? r.ate.translation.rmse : 0.0,
-          loc ? r.ate.unaligned_rotation.rmse * kRadToDeg : 0.0,
-          r.rpe.ok() ? r.rpe.translation.rmse : 0.0,
-          r.rpe.ok() ? r.rpe.rotation.rmse * kRadToDeg : 0.0, r.lost, r.scans, r.has_cov ? 1 : 0,
-          r.anees.anees, r.anees.interval.lower, r.anees.interval.upper, r.ms_mean, r.ms_max,
-          r.wall_s, r.rel_nees.used, r.rel_nees.skipped_no_covariance, r.rel_nees.mean,
-          r.rel_nees.median, r.rel_nees.fraction_inside, r.flagged_lost, r.cpu_ms_max,
-          r.has_cov ? r.scans - r.anees.count : 0);
-      csv << b;
-      std::string anees = r.has_cov ? "" : "—";
-      if (r.has_cov) {
-        char a[96];
-        std::snprintf(a, sizeof a, "%.2f [%.2f, %.2f]", r.anees.anees, r.anees.interval.lower,
-                      r.anees.interval.upper);
-        anees = a;
-        const std::string note = eval::left_out_note(r.anees, r.scans, "without a covariance");
-        if (!note.empty()) anees += " (" + note + ")";
-      }
-      std::string rel_nees = "—";
-      if (r.rel_nees.ok()) {
-        char a[128];
-        std::snprintf(a, sizeof a, "%zu, %.1f, %.1f, %.0f %%", r.rel_nees.used, r.rel_nees.mean,
-                      r.rel_nees.median, 100.0 * r.rel_nees.fraction_inside);
-        rel_nees = a;
-      }
-      if (!loc) {
-        std::snprintf(b, sizeof b,
-                      "| %s | %zu | %.4f ± %.4f | %.3f ± %.3f | — | — | — | — | — | — | — | — |\n",
-                      r.method.c_str(), r.rel.used, r.rel.translation.mean, r.rel.translation.std,
-                      r.rel.rotation.mean * kRadToDeg, r.rel.rotation.std * kRadToDeg);
-      } else {
-        std::snprintf(
-            b, sizeof b,
-            "| %s | %zu | %.4f ± %.4f | %.3f ± %.3f | %.4f | %.4f / %.3f | %zu | %zu | %s "
-            "| %s | %.2f (%.1f) | %.3f |\n",
-            r.method.c_str(), r.rel.used, r.rel.translation.mean, r.rel.translation.std,
-            r.rel.rotation.mean * kRadToDeg, r.rel.rotation.std * kRadToDeg,
-            r.ate.unaligned_translation.rmse, r.rpe.translation.rmse,
-            r.rpe.rotation.rmse * kRadToDeg, r.lost, r.flagged_lost, anees.c_str(),
-            rel_nees.c_str(), r.ms_mean, r.ms_max, r.wall_s);
-      }
-      md << b;
-    }
-    md << "\nATE: unaligned RMSE against the corrected poses (same frame); RPE: consecutive scans. "
-          "Relation NEES: e^T (J_i S_i J_i^T + J_j S_j J_j^T)^-1 e over the relations whose both "
-          "ends have a covariance (chi2(3): mean 3, 95 % <= 7.81). "
-          "Map VDT built in "
-       << build_s << " s.\n";
+    write_tables(csv, md, rows, split, n, build_s);
 
     // 5. Figures.
-    {
-      viz::Figure fig(1400, 1300);
-      viz::Axes& ax = fig.axes();
-      map_axes(ax, map.cells);
-      ax.title("Intel lab: trajectories over the map built from the last third");
-      std::vector<double> rx, ry;
-      for (const auto& s : reference) {
-        rx.push_back(s.pose[0]);
-        ry.push_back(s.pose[1]);
-      }
-      ax.line(rx, ry,
-              viz::Style{}.with_color({0, 0, 0}).with_width(2.5).with_dashes().with_label(
-                  "corrected (GMapping)"));
-      for (std::size_t k = 1; k < rows.size(); ++k) {
-        std::vector<double> xs, ys;
-        for (const Pose2& p : rows[k].poses) {
-          xs.push_back(p[0]);
-          ys.push_back(p[1]);
-        }
-        ax.line(xs, ys, viz::Style{}.with_width(1.5).with_label(rows[k].method));
-      }
-      ax.legend(viz::LegendLocation::kUpperRight);
-      fig.save_png(out + "/trajectories.png");
-    }
-    for (std::size_t k = 1; k < rows.size(); ++k) {
-      const Row& r = rows[k];
-      if (r.method != "vdt-opt" && r.method != "vdt-ekf") continue;
-      viz::Figure fig(1400, 1300);
-      viz::Axes& ax = fig.axes();
-      map_axes(ax, map.cells);
-      ax.title("scans reprojected from the " + r.method + " poses (scans 0.." +
-               std::to_string(split - 1) + ")");
-      std::vector<double> xs, ys;
-      for (std::size_t i = 0; i < r.poses.size(); ++i) {
-        for (const auto& p : scan_points(logs.raw.lasers[i].scan).points) {
-          const Eigen::Vector2d q = transform_point(r.poses[i], p);
-          xs.push_back(q.x());
-          ys.push_back(q.y());
-        }
-      }
-      ax.scatter(xs, ys,
-                 viz::Style{}
-                     .with_color(viz::kColorCycle[1])
-                     .with_marker(viz::Marker::kCircle, 2.0)
-                     .with_alpha(0.3));
-      fig.save_png(out + "/scans_" + r.method + ".png");
-
-      viz::Figure ef(1400, 1100, 3, 1);
-      ef.title(r.method + ": error against the corrected poses, with +-2 sigma");
-      const char* names[3] = {"x error [m]", "y error [m]", "yaw error [rad]"};
-      for (int c = 0; c < 3; ++c) {
-        std::vector<double> t, e, lo, hi;
-        for (std::size_t i = 0; i < r.poses.size(); ++i) {
-          t.push_back(times[i] - times[0]);
-          e.push_back(pose_error(r.poses[i], reference[i].pose)[c]);
-          const double s2 = 2.0 * std::sqrt(std::max(0.0, r.cov[i](c, c)));
-          lo.push_back(-s2);
-          hi.push_back(s2);
-        }
-        viz::Axes& ax2 = ef.axes(c, 0);
-        ax2.band(t, lo, hi, viz::Style{}.with_color(viz::kColorCycle[0]).with_label("+-2 sigma"));
-        ax2.line(t, e,
-                 viz::Style{}.with_color(viz::kColorCycle[1]).with_width(1.5).with_label("error"));
-        ax2.ylabel(names[c]).grid(true);
-        if (c == 2) ax2.xlabel("time [s]");
-        ax2.legend(c == 0 ? viz::LegendLocation::kUpperRight : viz::LegendLocation::kNone);
-      }
-      ef.save_png(out + "/errors_" + r.method + ".png");
-    }
+    write_figures(out, map, in, rows);
     std::printf(
         "[intel] wrote %s/table.csv, table.md, trajectories.png, scans_*.png, errors_*.png\n",
         out.c_str());

@@ -569,8 +569,7 @@ std::string localizer_settings_yaml(const LocalizerSettings& settings, const std
   const std::string only = method.empty() ? "" : localizer_config_section(method);
   LocalizerSettings s = settings;  // the visitors take non-const references
   std::ostringstream out;
-  out << "# vdtnav localizer settings: every key, [unit] and meaning (README, \"Settings "
-         "file\").\n";
+  out << "# vdtnav localizer settings: every key, [unit] and meaning (docs/settings.md).\n";
   for (const std::string& sec : sections()) {
     // --init global and recovery: any method
     if (!only.empty() && sec != only && sec != "global" && sec != "recovery") continue;

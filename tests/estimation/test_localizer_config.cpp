@@ -2,10 +2,13 @@
 // value, a file sets exactly the keys it names, and every mistake names file, line and key.
 #include <gtest/gtest.h>
 
+#include <fstream>
+#include <sstream>
 #include <string>
 
 #include "vdtnav/core/error.hpp"
 #include "vdtnav/estimation/localizer_config.hpp"
+#include "vdtnav/estimation/localizer_factory.hpp"
 
 namespace vdtnav {
 namespace {
@@ -83,6 +86,22 @@ TEST(LocalizerConfig, OneMethodsSectionOnly) {
   // Every key line documents itself.
   EXPECT_NE(opt.find("gate: 0.5"), std::string::npos);
   EXPECT_NE(opt.find("# [m] alpha of (3.3)"), std::string::npos);
+}
+
+TEST(LocalizerConfig, TheDocumentedListingIsWhatTheWriterPrints) {
+  // docs/settings.md holds the listing of every key for every method with log_settings(), the
+  // defaults `vdtnav localize` runs with; it must be the writer's output, byte for byte (after a
+  // change of a key or default: paste localizer_settings_yaml(log_settings(), "") there).
+  std::ifstream in(std::string(VDTNAV_SOURCE_DIR) + "/docs/settings.md");
+  ASSERT_TRUE(in) << "docs/settings.md not found";
+  std::stringstream text;
+  text << in.rdbuf();
+  const std::string doc = text.str();
+  const std::size_t begin = doc.find("# vdtnav localizer settings:");
+  ASSERT_NE(begin, std::string::npos);
+  const std::size_t end = doc.find("```", begin);
+  ASSERT_NE(end, std::string::npos);
+  EXPECT_EQ(doc.substr(begin, end - begin), localizer_settings_yaml(log_settings(), ""));
 }
 
 TEST(LocalizerConfig, MistakesNameFileLineAndKey) {

@@ -432,7 +432,7 @@ void add_localize_command(CLI::App& app) {
   add_time_base_option(*cmd, args->time_base);
   cmd->add_option("--out", args->out, "Trajectory output (TUM: t x y z qx qy qz qw; required)");
   cmd->add_option("--config", args->config,
-                  "Localizer settings (YAML, keys documented by --print-config and the README); "
+                  "Localizer settings (YAML, keys in --print-config and docs/settings.md); "
                   "unnamed keys keep their defaults")
       ->check(input_file("--config"));
   cmd->add_flag("--print-config", args->print_config,

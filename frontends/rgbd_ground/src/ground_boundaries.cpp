@@ -15,7 +15,7 @@
 
 namespace vdtnav::rgbd_ground {
 
-GroundBoundaryExtractor::GroundBoundaryExtractor(uav_camera::PinholeCamera camera,
+GroundBoundaryExtractor::GroundBoundaryExtractor(camera::PinholeCamera camera,
                                                  Eigen::Isometry3d camera_to_robot,
                                                  GroundBoundaryOptions options)
     : camera_(std::move(camera)), camera_to_robot_(camera_to_robot), options_(options) {

@@ -17,7 +17,7 @@ GroundPlane expected_ground_plane(const Eigen::Isometry3d& camera_to_robot) {
   return g;
 }
 
-GroundPlane fit_ground_plane(const RgbdFrame& frame, const uav_camera::PinholeCamera& camera,
+GroundPlane fit_ground_plane(const RgbdFrame& frame, const camera::PinholeCamera& camera,
                              const Eigen::Isometry3d& camera_to_robot, const DepthNoiseModel& noise,
                              const GroundPlaneOptions& options) {
   const GroundPlane expected = expected_ground_plane(camera_to_robot);

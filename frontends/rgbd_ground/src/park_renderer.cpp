@@ -65,8 +65,8 @@ RenderOptions RenderOptions::localization_day() {
   return r;
 }
 
-uav_camera::CameraCalibration default_rgbd_calibration() {
-  uav_camera::CameraCalibration c;
+camera::CameraCalibration default_rgbd_calibration() {
+  camera::CameraCalibration c;
   c.width = 640;
   c.height = 480;
   c.camera_matrix << 525.0, 0.0, 319.5, 0.0, 525.0, 239.5, 0.0, 0.0, 1.0;
@@ -79,10 +79,10 @@ Eigen::Isometry3d default_rear_camera() {
                        35.0 * 3.14159265358979323846 / 180.0);
 }
 
-ParkRenderer::ParkRenderer(const ParkScene& scene, uav_camera::CameraCalibration calibration,
+ParkRenderer::ParkRenderer(const ParkScene& scene, camera::CameraCalibration calibration,
                            Eigen::Isometry3d camera_to_robot)
     : scene_(scene), calibration_(std::move(calibration)), camera_to_robot_(camera_to_robot) {
-  const uav_camera::PinholeCamera camera(calibration_);
+  const camera::PinholeCamera camera(calibration_);
   std::vector<Eigen::Vector2d> px;
   for (int v = 0; v < calibration_.height; ++v)
     for (int u = 0; u < calibration_.width; ++u) px.emplace_back(u, v);

@@ -1,8 +1,9 @@
 #pragma once
 // The two bag formats behind BagReader::open and the decode_* functions (bag_reader.cpp
 // dispatches on the message's format), one namespace each with the same functions:
-// - ros1 (ros1_bag.cpp): ROS 1 bags v2.0 through rosbag_storage; FormatError for v1.2 and other
-//   formats, truncated files, corrupt indexes and unknown compression; ROS 1 serialization;
+// - ros1 (ros1_bag.cpp, ros1_serialization.cpp): ROS 1 bags v2.0 through rosbag_storage;
+//   FormatError for v1.2 and other formats, truncated files, corrupt indexes and unknown
+//   compression; ROS 1 serialization;
 // - ros2 (ros2_bag.cpp, ros2_cdr.cpp): rosbag2 folders (metadata.yaml + sqlite3 .db3), or their
 //   metadata.yaml or a .db3 in them; FormatError for .mcap storage (naming the conversion to
 //   sqlite3), compressed bags and unreadable databases; CDR with Fast CDR.

@@ -1,9 +1,9 @@
 #pragma once
 // The fields of the messages vdtnav reads, in the order of their .msg definitions, over a reader
-// of either wire format: ROS 1 serialization (ros1_bag.cpp: packed little-endian, Header with
-// seq, time as uint32 sec + nsec) and ROS 2 CDR (ros2_cdr.cpp: aligned, either endianness,
-// Header without seq). The formats differ only in those primitives; the message layouts are the
-// same, so one template decodes both.
+// of either wire format: ROS 1 serialization (ros1_serialization.cpp: packed little-endian,
+// Header with seq, time as uint32 sec + nsec) and ROS 2 CDR (ros2_cdr.cpp: aligned, either
+// endianness, Header without seq). The formats differ only in those primitives; the message layouts
+// are the same, so one template decodes both.
 //
 // A Reader provides get<T>() for a primitive, str() for a string, header() for std_msgs/Header,
 // length(min_element_bytes, field) for a sequence's length (refused when that many elements

@@ -1,7 +1,5 @@
-// ROS 1 bags (format 2.0) read through Debian's rosbag_storage, and the messages of
-// messages.hpp decoded from ROS 1 serialization by message_fields.hpp's layouts (a bounds-checked
-// reader: ros::serialization resizes a sequence to whatever length the bytes claim before it
-// checks them, gigabytes for a corrupt message).
+// ROS 1 bags (format 2.0) read through Debian's rosbag_storage; their messages are decoded from
+// ROS 1 serialization in ros1_serialization.cpp.
 //
 // rosbag_storage trusts the file: it follows offsets and lengths from the index without bounds
 // checks, so a truncated or corrupt bag can make it read past its buffers. open() therefore first
@@ -14,8 +12,6 @@
 #include "bag_formats.hpp"
 
 #include <algorithm>
-#include <array>
-#include <cstring>
 #include <exception>
 #include <filesystem>
 #include <fstream>
@@ -23,7 +19,6 @@
 #include <map>
 #include <new>
 #include <set>
-#include <sstream>
 #include <stdexcept>
 #include <utility>
 
@@ -33,7 +28,7 @@
 #include <rosbag/query.h>
 #include <rosbag/view.h>
 
-#include "message_fields.hpp"
+#include "ros1_time.hpp"
 #include "vdtnav/core/error.hpp"
 
 namespace vdtnav::ros::ros1 {
@@ -45,10 +40,6 @@ constexpr std::size_t kMagicSize = 13;
 constexpr std::uint8_t kOpMessageData = 0x02, kOpIndexData = 0x04, kOpBagHeader = 0x03,
                        kOpChunk = 0x05, kOpChunkInfo = 0x06, kOpConnection = 0x07;
 constexpr std::uint32_t kIndexEntryBytes = 12;  // time sec, time nsec, offset in the chunk
-
-std::int64_t to_ns(std::uint32_t sec, std::uint32_t nsec) {
-  return static_cast<std::int64_t>(sec) * 1000000000LL + static_cast<std::int64_t>(nsec);
-}
 
 // ------------------------------------------------------------------- the structural check
 
@@ -418,7 +409,7 @@ class Ros1Bag final : public BagReader {
       std::map<std::string, BagTopic> by_name;
       rosbag::View view(bag_);
       for (const rosbag::MessageInstance& m : view) {
-        const std::int64_t t = to_ns(m.getTime().sec, m.getTime().nsec);
+        const std::int64_t t = detail::to_ns(m.getTime().sec, m.getTime().nsec);
         BagTopic& topic = by_name[m.getTopic()];
         if (topic.count == 0) {
           topic.name = m.getTopic();
@@ -467,7 +458,7 @@ class Ros1Bag final : public BagReader {
         const rosbag::MessageInstance& m = *it;
         msg.topic = m.getTopic();
         msg.type = m.getDataType();
-        msg.recorded_ns = to_ns(m.getTime().sec, m.getTime().nsec);
+        msg.recorded_ns = detail::to_ns(m.getTime().sec, m.getTime().nsec);
         const std::uint32_t n = m.size();
         if (n > check_.max_chunk_bytes) {
           throw FormatError(path_, 0,
@@ -496,123 +487,8 @@ class Ros1Bag final : public BagReader {
   std::vector<BagTopic> topics_;
 };
 
-// ------------------------------------------------------------------------------ decoders
-
-/// \brief "topic /scan, bag time 1684338971.720189000 s": where a message is, for errors.
-std::string describe(const BagMessage& m) {
-  std::ostringstream s;
-  const std::int64_t sec = m.recorded_ns / 1000000000LL;
-  std::int64_t nsec = m.recorded_ns % 1000000000LL;
-  if (nsec < 0) nsec = -nsec;
-  s << "topic " << m.topic << ", bag time " << sec << '.';
-  s.width(9);
-  s.fill('0');
-  s << nsec << " s";
-  return s.str();
-}
-
-/// \brief ROS 1 serialization (packed, little-endian; strings and sequences with a uint32
-/// length) over a message's bytes, every read bounds-checked: a message cut short or a length
-/// larger than the bytes left is a FormatError, before anything is allocated.
-class Ros1Reader {
- public:
-  explicit Ros1Reader(const BagMessage& m) : m_(m) {}
-
-  template <typename T>
-  T get() {
-    T v;
-    std::memcpy(&v, take(sizeof(T), "a field"), sizeof(T));  // x86-64 and ARM: little-endian
-    return v;
-  }
-  std::string str() {
-    const std::size_t n = length(1, "a string");
-    const std::uint8_t* p = take(n, "a string");
-    return std::string(reinterpret_cast<const char*>(p), n);
-  }
-  /// std_msgs/Header: uint32 seq (dropped), time stamp (uint32 sec, uint32 nsec), string frame_id.
-  Header header() {
-    (void)get<std::uint32_t>();
-    Header h;
-    const auto sec = get<std::uint32_t>();
-    const auto nsec = get<std::uint32_t>();
-    h.stamp_ns = to_ns(sec, nsec);
-    h.frame_id = str();
-    return h;
-  }
-  std::size_t length(std::size_t min_element_bytes, const char* field) {
-    const auto n = get<std::uint32_t>();
-    if (static_cast<std::uint64_t>(n) * min_element_bytes > m_.data.size() - at_) {
-      throw FormatError(describe(m_), 0,
-                        std::string("expected ") + m_.type + ": " + field + " claims " +
-                            std::to_string(n) + " elements, only " +
-                            std::to_string(m_.data.size() - at_) + " bytes are left");
-    }
-    return n;
-  }
-  template <typename T>
-  void sequence(std::vector<T>& out, const char* field) {
-    out.resize(length(sizeof(T), field));
-    if (!out.empty())
-      std::memcpy(out.data(), take(out.size() * sizeof(T), field), out.size() * sizeof(T));
-  }
-  template <std::size_t N>
-  void array(std::array<double, N>& out) {
-    std::memcpy(out.data(), take(N * sizeof(double), "a fixed array"), N * sizeof(double));
-  }
-
- private:
-  const std::uint8_t* take(std::size_t n, const char* what) {
-    if (n > m_.data.size() - at_) {
-      throw FormatError(describe(m_), 0,
-                        "expected " + m_.type + ": the " + std::to_string(m_.data.size()) +
-                            " bytes end inside " + what);
-    }
-    const std::uint8_t* p = m_.data.data() + at_;
-    at_ += n;
-    return p;
-  }
-  const BagMessage& m_;
-  std::size_t at_ = 0;
-};
-
-/// \brief Checks m's type and format, then decodes its fields (message_fields.hpp).
-template <class Msg>
-Msg decode_with(const BagMessage& m, const std::string& expected, Msg (*fields)(Ros1Reader&)) {
-  if (ros1_type_name(m.type) != expected) {
-    throw FormatError(describe(m), 0, "expected " + expected + ", the topic holds " + m.type);
-  }
-  if (m.format != BagFormat::kRos1) {
-    throw FormatError(describe(m), 0, "not a ROS 1 message (ROS 2 CDR bytes)");
-  }
-  Ros1Reader r(m);
-  return fields(r);
-}
-
 }  // namespace
 
 std::unique_ptr<BagReader> open(const std::string& path) { return std::make_unique<Ros1Bag>(path); }
-
-LaserScanMsg decode_laser_scan(const BagMessage& m) {
-  return decode_with(m, "sensor_msgs/LaserScan", fields::laser_scan<Ros1Reader>);
-}
-PointCloud2Msg decode_point_cloud2(const BagMessage& m) {
-  return decode_with(m, "sensor_msgs/PointCloud2", fields::point_cloud2<Ros1Reader>);
-}
-OdometryMsg decode_odometry(const BagMessage& m) {
-  return decode_with(m, "nav_msgs/Odometry", fields::odometry<Ros1Reader>);
-}
-TfMsg decode_tf(const BagMessage& m) {
-  return decode_with(m, "tf2_msgs/TFMessage", fields::tf<Ros1Reader>);
-}
-PoseStampedMsg decode_pose_stamped(const BagMessage& m) {
-  return decode_with(m, "geometry_msgs/PoseStamped", fields::pose_stamped<Ros1Reader>);
-}
-PoseWithCovarianceStampedMsg decode_pose_with_covariance_stamped(const BagMessage& m) {
-  return decode_with(m, "geometry_msgs/PoseWithCovarianceStamped",
-                     fields::pose_with_covariance_stamped<Ros1Reader>);
-}
-ImuMsg decode_imu(const BagMessage& m) {
-  return decode_with(m, "sensor_msgs/Imu", fields::imu<Ros1Reader>);
-}
 
 }  // namespace vdtnav::ros::ros1

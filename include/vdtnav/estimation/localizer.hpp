@@ -14,40 +14,9 @@
 #include "vdtnav/core/pose3.hpp"
 #include "vdtnav/core/traits.hpp"
 #include "vdtnav/sensor/laser_scan.hpp"
+#include "vdtnav/sensor/odometry.hpp"
 
 namespace vdtnav {
-
-/// \brief What odometry reports between two scans.
-struct OdometryStep {
-  double dt = 0.0;              ///< seconds since the previous scan
-  double v = 0.0;               ///< measured linear velocity, m/s (velocity model)
-  double w = 0.0;               ///< measured angular velocity, rad/s
-  Pose2 delta = Pose2::Zero();  ///< measured increment in the previous robot frame
-};
-
-/// \brief What odometry and an IMU report between two 3D scans.
-struct OdometryStep3 {
-  double dt = 0.0;                  ///< seconds since the previous scan
-  Pose3 delta = Pose3::Identity();  ///< measured increment in the previous robot frame
-  /// The IMU's roll and pitch of the robot at this scan (the gravity direction, R = Rz Ry Rx as
-  /// pose3_from_xyz_rpy), radians; NaN: no IMU, the prediction's own attitude is used.
-  double roll = std::numeric_limits<double>::quiet_NaN();
-  double pitch = std::numeric_limits<double>::quiet_NaN();
-
-  [[nodiscard]] bool has_attitude() const noexcept { return roll == roll && pitch == pitch; }
-};
-
-/// \brief The odometry type of dimension Dim (OdometryStep in 2D, OdometryStep3 in 3D).
-template <int Dim>
-struct OdometryTraits;
-template <>
-struct OdometryTraits<2> {
-  using Step = OdometryStep;
-};
-template <>
-struct OdometryTraits<3> {
-  using Step = OdometryStep3;
-};
 
 /// \brief Why an estimate is what it is.
 enum class LocalizationStatus {

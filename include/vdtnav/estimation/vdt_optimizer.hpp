@@ -159,8 +159,8 @@ class VdtOptimizerT {
   /// solve() with an optional prior, its information already in VCD units (times prior_s2).
   [[nodiscard]] Result solve_with(const Observations& observations, const Pose& guess,
                                   const PosePrior<Dim>* prior, double prior_s2) const;
-  /// covariance() with the readings visited in `order` (see lookup_order in the .cpp), with the
-  /// prior's information in VCD units (times prior_s2) when there is one.
+  /// covariance() with the readings visited in `order` (see src/estimation/lookup_order.cpp),
+  /// with the prior's information in VCD units (times prior_s2) when there is one.
   [[nodiscard]] bool covariance(const Observations& observations, const Pose& pose,
                                 const std::vector<char>& inliers, const std::vector<int>& order,
                                 const Covariance* prior_information, double prior_s2,

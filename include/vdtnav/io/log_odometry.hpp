@@ -8,8 +8,8 @@
 #include <vector>
 
 #include "vdtnav/core/pose2.hpp"
-#include "vdtnav/estimation/localizer.hpp"
 #include "vdtnav/io/carmen_log.hpp"
+#include "vdtnav/sensor/odometry.hpp"
 
 namespace vdtnav {
 

@@ -13,9 +13,9 @@
 #include <Eigen/Core>
 
 #include "vdtnav/core/pose2.hpp"
-#include "vdtnav/estimation/localizer.hpp"
 #include "vdtnav/map/grid.hpp"
 #include "vdtnav/sensor/laser_scan.hpp"
+#include "vdtnav/sensor/odometry.hpp"
 #include "vdtnav/sim/ray_casting.hpp"
 #include "vdtnav/sim/trajectory.hpp"
 

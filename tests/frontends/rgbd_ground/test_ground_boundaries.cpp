@@ -26,8 +26,8 @@
 namespace vdtnav::rgbd_ground {
 namespace {
 
-using uav_camera::CameraCalibration;
-using uav_camera::PinholeCamera;
+using camera::CameraCalibration;
+using camera::PinholeCamera;
 
 constexpr double kPi = 3.14159265358979323846;
 
@@ -372,7 +372,7 @@ TEST(GroundBoundaries, BadInputIsRefusedWithTheReason) {
     EXPECT_EQ(e.file(), c);
   }
   // Missing intrinsics.
-  EXPECT_THROW((void)uav_camera::read_calibration((dir / "no_such_camera.yaml").string()), IoError);
+  EXPECT_THROW((void)camera::read_calibration((dir / "no_such_camera.yaml").string()), IoError);
   // A frame of another size than the camera's.
   const GroundBoundaryExtractor ex(PinholeCamera(scene().cal), scene().truth);
   EXPECT_THROW(

@@ -47,14 +47,14 @@ TEST(ParkRenderer, DepthIsTheAnalyticIntersection) {
   o.noise.sigma_z2 = 0.0;
   o.holes = 0.0;
   o.pixel_noise = 0.0;
-  const uav_camera::CameraCalibration cal = default_rgbd_calibration();
+  const camera::CameraCalibration cal = default_rgbd_calibration();
   const Eigen::Isometry3d mount = default_rear_camera();
   const ParkRenderer r(park(), cal, mount);
   const ScooterDrive d = simulate_scooter_drive(park(), {});
   const Pose2 pose = d.truth[40];
   std::mt19937 rng(1);
   const RgbdFrame f = r.render(pose, o, rng);
-  const uav_camera::PinholeCamera cam(cal);
+  const camera::PinholeCamera cam(cal);
   Eigen::Isometry3d world_robot = Eigen::Isometry3d::Identity();
   world_robot.linear() = Eigen::AngleAxisd(pose[2], Eigen::Vector3d::UnitZ()).toRotationMatrix();
   world_robot.translation() = Eigen::Vector3d(pose[0], pose[1], 0.0);

@@ -1,17 +1,17 @@
-// A user's program against the installed vdtnav::core.
-#include <vdtnav/map/map.hpp>
+// A user's program against the installed vdtnav::core (header-only): SE(2) composition.
+#include <vdtnav/core/pose2.hpp>
 
 #include <cmath>
 #include <cstdio>
 
 int main() {
   using namespace vdtnav;
-  OccupancyGrid<2> occ(Eigen::Vector2i(20, 20), GridFrame<2>(0.1, Eigen::Vector2d::Zero()), 0);
-  occ(Eigen::Vector2i(10, 10)) = 1;
-  const auto map = VdtMap2::build(occ);
-  // DT_v = p - c(p): c is the centre of cell (10, 10) = (1.05, 1.05).
-  const auto s = map.evaluate(Eigen::Vector2d(0.75, 1.05));
-  const bool ok = std::abs(s.value.x() + 0.3) < 1e-4 && std::abs(s.value.y()) < 1e-4;
-  std::printf("DT_v = (%g, %g): %s\n", s.value.x(), s.value.y(), ok ? "ok" : "WRONG");
+  // Facing +y at (1, 0), one metre forward lands at (1, 1).
+  const Pose2 a(1.0, 0.0, M_PI / 2), b(1.0, 0.0, 0.0);
+  const Pose2 c = compose(a, b);
+  const bool ok = (c - Pose2(1.0, 1.0, M_PI / 2)).norm() < 1e-12 &&
+                  (between(a, c) - b).norm() < 1e-12 &&
+                  std::abs(wrap_angle(3 * M_PI) - M_PI) < 1e-12;
+  std::printf("compose (%g, %g, %g): %s\n", c.x(), c.y(), c.z(), ok ? "ok" : "WRONG");
   return ok ? 0 : 1;
 }

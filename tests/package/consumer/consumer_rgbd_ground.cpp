@@ -7,7 +7,7 @@
 
 int main() {
   using namespace vdtnav;
-  uav_camera::CameraCalibration c;
+  camera::CameraCalibration c;
   c.width = 320;
   c.height = 240;
   c.camera_matrix << 300, 0, 159.5, 0, 300, 119.5, 0, 0, 1;
@@ -20,7 +20,7 @@ int main() {
   const cv::Mat depth(240, 320, CV_32F, cv::Scalar(1.0f));
   rgbd_ground::GroundBoundaryOptions o;
   o.plane.min_inliers = 100;
-  const rgbd_ground::GroundBoundaryExtractor ex(uav_camera::PinholeCamera(c), cam, o);
+  const rgbd_ground::GroundBoundaryExtractor ex(camera::PinholeCamera(c), cam, o);
   const rgbd_ground::GroundBoundaries b =
       ex.extract(rgbd_ground::make_rgbd_frame(colour, depth, 1.0));
   // Column u at robot y = -(u - 159.5) / 300 on the ground 1 m below.

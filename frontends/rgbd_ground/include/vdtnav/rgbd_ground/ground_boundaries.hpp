@@ -40,11 +40,11 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include "vdtnav/camera/camera_model.hpp"
 #include "vdtnav/rgbd_ground/depth_noise.hpp"
 #include "vdtnav/rgbd_ground/ground_plane.hpp"
 #include "vdtnav/rgbd_ground/rgbd_frame.hpp"
 #include "vdtnav/sensor/laser_scan.hpp"
-#include "vdtnav/uav_camera/camera_model.hpp"
 
 namespace vdtnav::rgbd_ground {
 
@@ -95,7 +95,7 @@ struct GroundBoundaries {
 class GroundBoundaryExtractor {
  public:
   /// \throws ConfigError for options out of their domain.
-  GroundBoundaryExtractor(uav_camera::PinholeCamera camera, Eigen::Isometry3d camera_to_robot,
+  GroundBoundaryExtractor(camera::PinholeCamera camera, Eigen::Isometry3d camera_to_robot,
                           GroundBoundaryOptions options = {});
 
   /// \throws ConfigError when the frame's size is not the camera's.
@@ -114,7 +114,7 @@ class GroundBoundaryExtractor {
   [[nodiscard]] const GroundBoundaryOptions& options() const noexcept { return options_; }
 
  private:
-  uav_camera::PinholeCamera camera_;
+  camera::PinholeCamera camera_;
   Eigen::Isometry3d camera_to_robot_;
   GroundBoundaryOptions options_;
   std::vector<Eigen::Vector2f> rays_;  ///< undistorted (x_n, y_n) of every pixel, row-major

@@ -11,9 +11,9 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include "vdtnav/camera/camera_model.hpp"
 #include "vdtnav/rgbd_ground/depth_noise.hpp"
 #include "vdtnav/rgbd_ground/rgbd_frame.hpp"
-#include "vdtnav/uav_camera/camera_model.hpp"
 
 namespace vdtnav::rgbd_ground {
 
@@ -45,7 +45,7 @@ struct GroundPlaneOptions {
 
 /// \brief Fits the ground plane to the frame's depth points (undistorted rays, z-depth).
 [[nodiscard]] GroundPlane fit_ground_plane(const RgbdFrame& frame,
-                                           const uav_camera::PinholeCamera& camera,
+                                           const camera::PinholeCamera& camera,
                                            const Eigen::Isometry3d& camera_to_robot,
                                            const DepthNoiseModel& noise = {},
                                            const GroundPlaneOptions& options = {});

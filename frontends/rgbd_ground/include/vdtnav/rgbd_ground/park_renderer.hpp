@@ -11,11 +11,11 @@
 
 #include <Eigen/Geometry>
 
+#include "vdtnav/camera/camera_model.hpp"
 #include "vdtnav/core/pose2.hpp"
 #include "vdtnav/rgbd_ground/depth_noise.hpp"
 #include "vdtnav/rgbd_ground/park_scene.hpp"
 #include "vdtnav/rgbd_ground/rgbd_frame.hpp"
-#include "vdtnav/uav_camera/camera_model.hpp"
 
 namespace vdtnav::rgbd_ground {
 
@@ -36,7 +36,7 @@ struct RenderOptions {
 };
 
 /// \brief The default camera of the study: 640 x 480, 525 px focal length, a mild barrel lens.
-[[nodiscard]] uav_camera::CameraCalibration default_rgbd_calibration();
+[[nodiscard]] camera::CameraCalibration default_rgbd_calibration();
 /// \brief Rear-mounted, 1.0 m above the ground, 0.4 m behind the robot's origin, looking
 /// backwards and 35 degrees down (robot frame x forward, y left, z up).
 [[nodiscard]] Eigen::Isometry3d default_rear_camera();
@@ -44,14 +44,14 @@ struct RenderOptions {
 /// \brief Renders one frame from the robot pose `robot` (world frame of the scene).
 class ParkRenderer {
  public:
-  ParkRenderer(const ParkScene& scene, uav_camera::CameraCalibration calibration,
+  ParkRenderer(const ParkScene& scene, camera::CameraCalibration calibration,
                Eigen::Isometry3d camera_to_robot);
   [[nodiscard]] RgbdFrame render(const Pose2& robot, const RenderOptions& options,
                                  std::mt19937& rng) const;
 
  private:
   const ParkScene& scene_;
-  uav_camera::CameraCalibration calibration_;
+  camera::CameraCalibration calibration_;
   Eigen::Isometry3d camera_to_robot_;
   std::vector<Eigen::Vector3d> rays_;  ///< undistorted ray (x_n, y_n, 1) of every pixel
 };

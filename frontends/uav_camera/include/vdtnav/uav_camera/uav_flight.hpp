@@ -12,7 +12,7 @@
 #include <Eigen/Geometry>
 
 #include "vdtnav/core/pose2.hpp"
-#include "vdtnav/estimation/localizer.hpp"
+#include "vdtnav/sensor/odometry.hpp"
 #include "vdtnav/uav_camera/runway_scene.hpp"
 #include "vdtnav/uav_camera/uav_rig.hpp"
 

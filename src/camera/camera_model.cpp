@@ -1,4 +1,4 @@
-#include "vdtnav/uav_camera/camera_model.hpp"
+#include "vdtnav/camera/camera_model.hpp"
 
 #include <yaml-cpp/yaml.h>
 
@@ -17,7 +17,7 @@
 
 #include "vdtnav/core/error.hpp"
 
-namespace vdtnav::uav_camera {
+namespace vdtnav::camera {
 namespace {
 
 /// Most distortion coefficients the model supports: (k1, k2, p1, p2, k3).
@@ -423,4 +423,4 @@ std::vector<Eigen::Vector2d> PinholeCamera::undistort(
   return out;
 }
 
-}  // namespace vdtnav::uav_camera
+}  // namespace vdtnav::camera

@@ -1,6 +1,6 @@
 // Calibration files and the Brown-Conrady camera: round trips, analytic Jacobian against finite
 // differences, OpenCV's projectPoints as an independent oracle, and errors that name the file.
-#include "vdtnav/uav_camera/camera_model.hpp"
+#include "vdtnav/camera/camera_model.hpp"
 
 #include <gtest/gtest.h>
 
@@ -9,10 +9,10 @@
 
 #include <opencv2/calib3d.hpp>
 
-#include "../../io/test_files.hpp"
+#include "../io/test_files.hpp"
 #include "vdtnav/core/error.hpp"
 
-namespace vdtnav::uav_camera {
+namespace vdtnav::camera {
 namespace {
 
 /// A wide lens (~77 deg horizontal field) with the strong barrel distortion of action cameras.
@@ -152,7 +152,7 @@ void expect_same(const CameraCalibration& a, const CameraCalibration& b) {
 }
 
 TEST(CalibrationFiles, OpenCvRoundTrip) {
-  const std::string dir = test::tmp_dir("uav_camera");
+  const std::string dir = test::tmp_dir("camera");
   const CameraCalibration c = wide_lens();
   write_opencv_calibration(dir + "/cam.yaml", c);
   const auto text = test::lines_of(dir + "/cam.yaml");
@@ -162,7 +162,7 @@ TEST(CalibrationFiles, OpenCvRoundTrip) {
 }
 
 TEST(CalibrationFiles, OpenCvFileWithoutDirectiveAndColumnDistortion) {
-  const std::string dir = test::tmp_dir("uav_camera");
+  const std::string dir = test::tmp_dir("camera");
   test::write_file(dir + "/cam.yml",
                    "image_width: 640\n"
                    "image_height: 480\n"
@@ -176,7 +176,7 @@ TEST(CalibrationFiles, OpenCvFileWithoutDirectiveAndColumnDistortion) {
 }
 
 TEST(CalibrationFiles, RosCameraInfo) {
-  const std::string dir = test::tmp_dir("uav_camera");
+  const std::string dir = test::tmp_dir("camera");
   test::write_file(
       dir + "/camera_info.yaml",
       "image_width: 640\n"
@@ -218,7 +218,7 @@ std::string format_error(const std::string& path, const std::string& text) {
 }
 
 TEST(CalibrationFiles, ErrorsNameTheFileAndTheKey) {
-  const std::string dir = test::tmp_dir("uav_camera");
+  const std::string dir = test::tmp_dir("camera");
   const std::string ros_k =
       "camera_matrix:\n  rows: 3\n  cols: 3\n  data: [400, 0, 320, 0, 400, 240, 0, 0, 1]\n";
   // Missing key.
@@ -258,7 +258,7 @@ TEST(CalibrationFiles, ErrorsNameTheFileAndTheKey) {
 }
 
 TEST(CalibrationFiles, MissingFileIsAnIoErrorNamingIt) {
-  const std::string path = test::tmp_dir("uav_camera") + "/nope.yaml";
+  const std::string path = test::tmp_dir("camera") + "/nope.yaml";
   try {
     (void)read_calibration(path);
     FAIL() << "no error";
@@ -318,4 +318,4 @@ TEST(CalibrationFiles, FuzzFindingThatHungOpenCvsYamlParserIsAFormatError) {
 }
 
 }  // namespace
-}  // namespace vdtnav::uav_camera
+}  // namespace vdtnav::camera

@@ -1,0 +1,81 @@
+#pragma once
+// The parts of the 3D LiDAR example beyond main(): the world and the tour through it (world.cpp),
+// the scans as point clouds (scan_cloud.cpp), the map a user would have (rebuilt_map.cpp), the
+// tables (tables.cpp) and the figures (figures.cpp).
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include <pcl/point_cloud.h>
+#include <pcl/point_types.h>
+
+#include "vdtnav/core/pose3.hpp"
+#include "vdtnav/estimation/vdt_localizer3d.hpp"
+#include "vdtnav/map/grid.hpp"
+#include "vdtnav/sim/lidar3d_simulator.hpp"
+#include "vdtnav/sim/trajectory.hpp"
+
+namespace lidar3d {
+
+/// The world (= the map): the generated 3D room (`seed`) when `map_path` is empty, else the
+/// OctoMap (.bt/.ot) or the point cloud at `map_path`; its name goes to `world_name`.
+vdtnav::OccupancyGrid<3> load_world(const std::string& map_path, unsigned seed,
+                                    std::string* world_name);
+
+/// The 2D footprint the robot drives on: the floor layer, and per column whether it is free from
+/// 0.2 m above the floor to 2 m and near a floor (the tour stays inside the building).
+struct Footprint {
+  vdtnav::OccupancyGrid<2> blocked;
+  double floor_z = 0.0;  ///< the floor's surface (the top of its voxels), metres
+};
+
+Footprint footprint(const vdtnav::OccupancyGrid<3>& g);
+
+/// The true 6-DOF poses along the tour: 1 m above the floor, rolling and pitching a few degrees.
+std::vector<vdtnav::Pose3> true_poses(const std::vector<vdtnav::sim::TimedPose>& tour,
+                                      double floor_z);
+
+/// The scan as an organized cloud of `rings` rows, as a driver writes it.
+pcl::PointCloud<pcl::PointXYZ> to_pcl(const vdtnav::sim::Lidar3dScan& scan, int rings);
+
+/// The voxel edge that leaves about `target` readings of `cloud` (bisection on the edge).
+double voxel_for(const pcl::PointCloud<pcl::PointXYZ>& cloud, std::size_t target);
+
+/// The map a user would have (the file comment): the cloud of a mapping drive through `world`
+/// along its own tour (`seed`), one scan every `every` poses, each registered at its true pose
+/// moved by the map builder's error (N(0, pose_sigma^2) per axis in metres, N(0, (pose_sigma /
+/// 10)^2) per axis in radians), voxelized as `vdtnav map3d` does with its defaults (0.1 m voxels,
+/// or the world's if coarser; a 1 m margin).
+vdtnav::OccupancyGrid<3> rebuilt_map(const vdtnav::OccupancyGrid<3>& world, const Footprint& fp,
+                                     double speed, const vdtnav::sim::Lidar3dSpec& spec,
+                                     double pose_sigma, unsigned seed, std::size_t* scans_used);
+
+/// The localizers run on the drive: 6-DOF and 4-DOF on the map, and on the rebuilt map.
+constexpr int kRuns = 4;
+
+/// One localizer's run over the drive.
+struct Run {
+  std::string name;
+  std::vector<vdtnav::Pose3> estimates;
+  std::vector<vdtnav::Matrix6d> covariances;
+  std::vector<double> nees;
+  std::vector<int> nees_dof;
+  int lost = 0, refused = 0;
+  long iterations = 0;
+  double seconds = 0.0;
+};
+
+/// Writes table.csv and table.md and prints each run's summary.
+void write_tables(const std::string& out, const std::string& world_name,
+                  const std::vector<vdtnav::Pose3>& truth, double speed, std::size_t readings_sum,
+                  double voxel, const vdtnav::sim::Lidar3dSpec& vlp16,
+                  const vdtnav::VdtLocalizer3Options& o6, std::size_t mapping_scans,
+                  double map_pose_sigma, const Run (&runs)[kRuns], double sim_seconds);
+
+/// Draws trajectory.png (top view over the footprint) and errors.png (errors with +-2 sigma).
+void draw_figures(const std::string& out, const Footprint& fp,
+                  const std::vector<vdtnav::sim::TimedPose>& tour,
+                  const std::vector<vdtnav::Pose3>& truth, const Run (&runs)[kRuns]);
+
+}  // namespace lidar3d

@@ -1,0 +1,83 @@
+// The metrics of the Table 3.3 study: one method's errors, ANEES, lost fraction and timings on one
+// run, and their combination over repeats.
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <vector>
+
+#include <Eigen/Cholesky>
+
+#include "turtlebot_study.hpp"
+#include "vdtnav/eval/nees.hpp"
+
+namespace turtlebot_study {
+
+using namespace vdtnav;
+
+namespace {
+
+double mean(const std::vector<double>& v) {
+  return v.empty() ? 0.0 : std::accumulate(v.begin(), v.end(), 0.0) / v.size();
+}
+double stdev(const std::vector<double>& v) {
+  if (v.size() < 2) return 0.0;
+  const double m = mean(v);
+  double s = 0;
+  for (double x : v) s += (x - m) * (x - m);
+  return std::sqrt(s / (v.size() - 1));
+}
+
+}  // namespace
+
+Metrics evaluate(const Trace& t, const sim::SimulatedRun& run) {
+  Metrics m;
+  std::vector<double> pe, oe, pe2, oe2, nees;
+  int lost = 0;
+  for (std::size_t k = 1; k < run.size(); ++k) {
+    const Eigen::Vector3d e = pose_error(t.estimate[k], run.truth[k]);
+    const double p = e.head<2>().norm(), o = std::abs(e[2]);
+    pe.push_back(p);
+    oe.push_back(o);
+    pe2.push_back(p * p);
+    oe2.push_back(o * o);
+    lost += p > 0.5 ? 1 : 0;
+    if (t.has_cov[k]) nees.push_back(e.dot(t.covariance[k].ldlt().solve(e)));
+  }
+  m.pos_mae = mean(pe), m.pos_mae_std = stdev(pe), m.ori_mae = mean(oe), m.ori_mae_std = stdev(oe);
+  m.pos_mse = mean(pe2), m.pos_mse_std = stdev(pe2), m.ori_mse = mean(oe2),
+  m.ori_mse_std = stdev(oe2);
+  m.has_cov = nees.size() == pe.size();
+  if (m.has_cov && !nees.empty()) {
+    m.anees = mean(nees);
+    const eval::ChiSquareInterval bounds = eval::anees_interval(nees.size(), 3, 0.95);
+    m.anees_lo = bounds.lower;
+    m.anees_hi = bounds.upper;
+  }
+  m.lost_pct = 100.0 * lost / static_cast<double>(pe.size());
+  m.ms_mean = mean(t.ms);
+  m.ms_max = t.ms.empty() ? 0.0 : *std::max_element(t.ms.begin(), t.ms.end());
+  return m;
+}
+
+Metrics combine(const std::vector<Metrics>& r) {
+  if (r.size() == 1) return r[0];
+  Metrics m;
+  auto col = [&](double Metrics::*f) {
+    std::vector<double> v;
+    for (const auto& x : r) v.push_back(x.*f);
+    return v;
+  };
+  m.pos_mae = mean(col(&Metrics::pos_mae)), m.pos_mae_std = stdev(col(&Metrics::pos_mae));
+  m.ori_mae = mean(col(&Metrics::ori_mae)), m.ori_mae_std = stdev(col(&Metrics::ori_mae));
+  m.pos_mse = mean(col(&Metrics::pos_mse)), m.pos_mse_std = stdev(col(&Metrics::pos_mse));
+  m.ori_mse = mean(col(&Metrics::ori_mse)), m.ori_mse_std = stdev(col(&Metrics::ori_mse));
+  m.has_cov = r[0].has_cov;
+  m.anees = mean(col(&Metrics::anees)), m.anees_lo = mean(col(&Metrics::anees_lo));
+  m.anees_hi = mean(col(&Metrics::anees_hi)), m.lost_pct = mean(col(&Metrics::lost_pct));
+  m.ms_mean = mean(col(&Metrics::ms_mean));
+  const auto mx = col(&Metrics::ms_max);
+  m.ms_max = *std::max_element(mx.begin(), mx.end());
+  return m;
+}
+
+}  // namespace turtlebot_study

@@ -1,0 +1,104 @@
+#pragma once
+// The Ceres backend of VdtOptimizerT (thesis 3.2, Algorithm 1's OPTIMIZE): the pose's parameter
+// block per dimension, the settings shared by the solves, one solve and the Cauchy IRLS passes.
+
+#include <ceres/manifold.h>
+
+#include <cmath>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "scan_lm.hpp"
+#include "vdtnav/core/pose2.hpp"
+#include "vdtnav/core/pose3.hpp"
+#include "vdtnav/core/traits.hpp"
+#include "vdtnav/estimation/se3_manifold.hpp"
+#include "vdtnav/estimation/vdt_optimizer.hpp"
+#include "vdtnav/sensor/observation_set.hpp"
+#include "vdtnav/sensor/vdt_sensor_model.hpp"
+
+namespace vdtnav::detail {
+
+/// The Ceres parameter block of a pose: its size, the pose it holds, the manifold, and how a
+/// Jacobian in the pose perturbation of PoseTraits<Dim> becomes a Jacobian in the block.
+template <int Dim>
+struct Parameterization;
+
+/// 2D: (x, y, phi) as they are, Euclidean (the additive perturbation of PoseTraits<2>).
+template <>
+struct Parameterization<2> {
+  static constexpr int kAmbient = 3;
+  static void set(const Pose2& pose, double* x) {
+    x[0] = pose[0];
+    x[1] = pose[1];
+    x[2] = pose[2];
+  }
+  static Pose2 pose(const double* x) { return Pose2(x[0], x[1], x[2]); }
+  static Pose2 result(const double* x, const Pose2& /*guess*/, bool /*four_dof*/) {
+    return Pose2(x[0], x[1], wrap_angle(x[2]));
+  }
+  static ceres::Manifold* manifold(bool /*four_dof*/) { return nullptr; }
+  struct Jacobian {
+    Jacobian(const double* /*x*/, bool /*four_dof*/) {}
+    void operator()(const Eigen::Matrix<double, 2, 3>& d, double* out) const {
+      Eigen::Map<Eigen::Matrix<double, 2, 3, Eigen::RowMajor>>{out} = d;
+    }
+  };
+};
+
+/// 3D: (quaternion, t) on Se3LeftManifold, or Se3YawManifold in the 4-DOF mode.
+template <>
+struct Parameterization<3> {
+  static constexpr int kAmbient = 7;
+  static void set(const Pose3& pose, double* x) { se3_to_parameters(pose, x); }
+  static Pose3 pose(const double* x) { return se3_from_parameters(x); }
+  /// In the 4-DOF mode the attitude is rebuilt as Rz(psi) R_guess with an exact Rz, whose last
+  /// row (0, 0, 1) leaves the last row of R_guess, and so roll and pitch, bit for bit unchanged.
+  static Pose3 result(const double* x, const Pose3& guess, bool four_dof) {
+    Pose3 p = se3_from_parameters(x);
+    if (four_dof) {
+      const double psi = so3_log(p.linear() * guess.linear().transpose()).z();
+      const double c = std::cos(psi), s = std::sin(psi);
+      Eigen::Matrix3d rz;
+      rz << c, -s, 0.0, s, c, 0.0, 0.0, 0.0, 1.0;
+      p.linear() = rz * guess.linear();
+    }
+    return p;
+  }
+  /// Stateless, shared by every problem (not owned by them).
+  static ceres::Manifold* manifold(bool four_dof) {
+    static Se3LeftManifold se3;
+    static Se3YawManifold yaw;
+    return four_dof ? static_cast<ceres::Manifold*>(&yaw) : &se3;
+  }
+  using Jacobian = Se3AmbientJacobian;
+};
+
+/// What every Ceres solve of one optimizer shares.
+struct SolveSetup {
+  ScanSolver solver = ScanSolver::kCeres;
+  TrustRegion trust_region = TrustRegion::kLevenbergMarquardt;
+  int max_iterations = 25;
+  bool four_dof = false;
+  double function_tolerance = 1e-6;
+  double parameter_tolerance = 1e-6;  // relative: ~10 micrometres at 10 m from the origin
+};
+
+/// One solve of the readings in `beams` from x (updated in place), weighted by sqrt_w (empty: 1),
+/// with the prior term when `prior` is given (2D).
+template <int Dim>
+ScanLmSummary run_solver(const VdtSensorModelT<Dim>& model, const ObservationSet<Dim>& scan,
+                         const std::vector<int>& beams, const std::vector<double>& sqrt_w,
+                         RobustLoss loss, double loss_scale, const SolveSetup& setup,
+                         const PosePrior<Dim>* prior, double* x);
+
+/// Iteratively reweighted least squares with a Cauchy loss of the given scale: each pass fixes
+/// the weights w_i = 1 / (1 + |d_i|^2 / scale^2) at the current estimate and solves.
+/// \return the solver iterations of all passes.
+template <int Dim>
+int solve_cauchy_irls(const VdtSensorModelT<Dim>& model, const ObservationSet<Dim>& scan,
+                      const std::vector<int>& beams, double scale, const SolveSetup& setup,
+                      int passes, const PosePrior<Dim>* prior, double* x);
+
+}  // namespace vdtnav::detail
