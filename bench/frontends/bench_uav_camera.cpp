@@ -10,12 +10,12 @@
 #include <opencv2/imgproc.hpp>
 
 #include "../bench_counters.hpp"
+#include "vdtnav/camera_sim/ground_renderer.hpp"
+#include "vdtnav/camera_sim/runway_scene.hpp"
 #include "vdtnav/estimation/vdt_optimizer.hpp"
 #include "vdtnav/uav_camera/edge_extraction.hpp"
 #include "vdtnav/uav_camera/ground_projection.hpp"
-#include "vdtnav/uav_camera/ground_renderer.hpp"
 #include "vdtnav/uav_camera/marking_map.hpp"
-#include "vdtnav/uav_camera/runway_scene.hpp"
 #include "vdtnav/uav_camera/uav_camera_front_end.hpp"
 
 namespace vdtnav::uav_camera {

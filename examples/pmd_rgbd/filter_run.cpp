@@ -10,12 +10,12 @@
 #include <vector>
 
 #include "pmd_study.hpp"
+#include "vdtnav/camera_sim/landmark_detections.hpp"
+#include "vdtnav/camera_sim/park_renderer.hpp"
 #include "vdtnav/estimation/bearing_update.hpp"
 #include "vdtnav/estimation/motion_model.hpp"
 #include "vdtnav/estimation/vdt_ekf.hpp"
 #include "vdtnav/rgbd_ground/ground_boundaries.hpp"
-#include "vdtnav/rgbd_ground/landmark_detections.hpp"
-#include "vdtnav/rgbd_ground/park_renderer.hpp"
 #include "vdtnav/rgbd_ground/rgbd_frame.hpp"
 
 namespace pmd_study {

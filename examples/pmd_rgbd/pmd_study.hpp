@@ -11,13 +11,13 @@
 #include <Eigen/Core>
 #include <opencv2/core.hpp>
 
+#include "vdtnav/camera_sim/park_scene.hpp"
+#include "vdtnav/camera_sim/scooter_drive.hpp"
 #include "vdtnav/core/pose2.hpp"
 #include "vdtnav/estimation/bearing_update.hpp"
 #include "vdtnav/map/grid.hpp"
 #include "vdtnav/map/vdt_map.hpp"
 #include "vdtnav/rgbd_ground/ground_boundaries.hpp"
-#include "vdtnav/rgbd_ground/park_scene.hpp"
-#include "vdtnav/rgbd_ground/scooter_drive.hpp"
 
 namespace pmd_study {
 

@@ -11,10 +11,10 @@
 #include <vector>
 
 #include "uav_study.hpp"
+#include "vdtnav/camera_sim/ground_renderer.hpp"
 #include "vdtnav/estimation/udt_localizers.hpp"
 #include "vdtnav/estimation/vdt_ekf.hpp"
 #include "vdtnav/estimation/vdt_optimizer.hpp"
-#include "vdtnav/uav_camera/ground_renderer.hpp"
 
 namespace uav_study {
 

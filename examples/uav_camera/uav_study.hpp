@@ -10,14 +10,14 @@
 #include <Eigen/Core>
 #include <opencv2/core.hpp>
 
+#include "vdtnav/camera_sim/runway_scene.hpp"
+#include "vdtnav/camera_sim/uav_flight.hpp"
 #include "vdtnav/core/pose2.hpp"
 #include "vdtnav/estimation/localizer.hpp"
 #include "vdtnav/map/grid.hpp"
 #include "vdtnav/map/vdt_map.hpp"
 #include "vdtnav/uav_camera/camera_model.hpp"
-#include "vdtnav/uav_camera/runway_scene.hpp"
 #include "vdtnav/uav_camera/uav_camera_front_end.hpp"
-#include "vdtnav/uav_camera/uav_flight.hpp"
 #include "vdtnav/uav_camera/uav_rig.hpp"
 
 namespace uav_study {

@@ -16,13 +16,13 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "vdtnav/camera_sim/ground_renderer.hpp"
+#include "vdtnav/camera_sim/runway_scene.hpp"
 #include "vdtnav/core/error.hpp"
 #include "vdtnav/estimation/vdt_ekf.hpp"
 #include "vdtnav/estimation/vdt_optimizer.hpp"
 #include "vdtnav/eval/nees.hpp"
-#include "vdtnav/uav_camera/ground_renderer.hpp"
 #include "vdtnav/uav_camera/marking_map.hpp"
-#include "vdtnav/uav_camera/runway_scene.hpp"
 #include "vdtnav/uav_camera/uav_camera_front_end.hpp"
 
 namespace vdtnav::uav_camera {

@@ -1,4 +1,4 @@
-#include "vdtnav/rgbd_ground/park_renderer.hpp"
+#include "vdtnav/camera_sim/park_renderer.hpp"
 
 #include "vdtnav/rgbd_ground/camera_mount.hpp"
 

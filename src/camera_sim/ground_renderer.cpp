@@ -1,4 +1,4 @@
-#include "vdtnav/uav_camera/ground_renderer.hpp"
+#include "vdtnav/camera_sim/ground_renderer.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -8,9 +8,9 @@
 #include <random>
 #include <vector>
 
+#include "vdtnav/camera_sim/park_scene.hpp"
 #include "vdtnav/core/pose2.hpp"
 #include "vdtnav/estimation/bearing_update.hpp"
-#include "vdtnav/rgbd_ground/park_scene.hpp"
 
 namespace vdtnav::rgbd_ground {
 

@@ -1,7 +1,7 @@
 // Tests of the simulated UAV flight: bounds of the motion, the frames of the odometry
 // increments, the noise of every simulated sensor, and the stretches over the grass.
 
-#include "vdtnav/uav_camera/uav_flight.hpp"
+#include "vdtnav/camera_sim/uav_flight.hpp"
 
 #include <cmath>
 #include <vector>

@@ -2,7 +2,7 @@
 // points through the same (distorted) camera pose, the ground sampling distance h / f of a level
 // camera, and the statistics of exposure, blur and noise.
 
-#include "vdtnav/uav_camera/ground_renderer.hpp"
+#include "vdtnav/camera_sim/ground_renderer.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,12 +1,12 @@
-#include "vdtnav/uav_camera/uav_flight.hpp"
+#include "vdtnav/camera_sim/uav_flight.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <random>
 
+#include "vdtnav/camera_sim/ground_renderer.hpp"
 #include "vdtnav/core/error.hpp"
-#include "vdtnav/uav_camera/ground_renderer.hpp"
 
 namespace vdtnav::uav_camera {
 namespace {

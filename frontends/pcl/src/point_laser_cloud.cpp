@@ -1,4 +1,4 @@
-#include "vdtnav/point_laser/pcl_cloud.hpp"
+#include "vdtnav/pcl/point_laser_cloud.hpp"
 
 #include "vdtnav/pcl/point_cloud_file.hpp"
 

@@ -10,8 +10,8 @@
 #include <Eigen/Geometry>
 #include <opencv2/core.hpp>
 
+#include "vdtnav/camera_sim/runway_scene.hpp"
 #include "vdtnav/uav_camera/camera_model.hpp"
-#include "vdtnav/uav_camera/runway_scene.hpp"
 #include "vdtnav/uav_camera/uav_rig.hpp"
 
 namespace vdtnav::uav_camera {

@@ -7,10 +7,10 @@
 #include <cstdint>
 #include <vector>
 
+#include "vdtnav/camera_sim/park_scene.hpp"
 #include "vdtnav/core/pose2.hpp"
 #include "vdtnav/estimation/localizer.hpp"
 #include "vdtnav/estimation/motion_model.hpp"
-#include "vdtnav/rgbd_ground/park_scene.hpp"
 
 namespace vdtnav::rgbd_ground {
 

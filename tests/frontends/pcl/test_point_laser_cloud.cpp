@@ -1,7 +1,7 @@
 // Point-laser observations from PCL: a cloud of points in the unit's base frame, beams from its
 // viewpoint, gives the same observation set as the (pan, tilt, range) readings through the
 // calibration; a PCD file written here by hand reads back to the same set.
-#include "vdtnav/point_laser/pcl_cloud.hpp"
+#include "vdtnav/pcl/point_laser_cloud.hpp"
 
 #include <gtest/gtest.h>
 

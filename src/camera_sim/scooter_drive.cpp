@@ -1,4 +1,4 @@
-#include "vdtnav/rgbd_ground/scooter_drive.hpp"
+#include "vdtnav/camera_sim/scooter_drive.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -7,10 +7,10 @@
 #include <cmath>
 #include <random>
 
-#include "vdtnav/rgbd_ground/landmark_detections.hpp"
-#include "vdtnav/rgbd_ground/park_renderer.hpp"
-#include "vdtnav/rgbd_ground/park_scene.hpp"
-#include "vdtnav/rgbd_ground/scooter_drive.hpp"
+#include "vdtnav/camera_sim/landmark_detections.hpp"
+#include "vdtnav/camera_sim/park_renderer.hpp"
+#include "vdtnav/camera_sim/park_scene.hpp"
+#include "vdtnav/camera_sim/scooter_drive.hpp"
 
 namespace vdtnav::rgbd_ground {
 namespace {

@@ -12,9 +12,9 @@
 #include <Eigen/Geometry>
 
 #include "vdtnav/camera/camera_model.hpp"
+#include "vdtnav/camera_sim/park_scene.hpp"
 #include "vdtnav/core/pose2.hpp"
 #include "vdtnav/rgbd_ground/depth_noise.hpp"
-#include "vdtnav/rgbd_ground/park_scene.hpp"
 #include "vdtnav/rgbd_ground/rgbd_frame.hpp"
 
 namespace vdtnav::rgbd_ground {

@@ -1,4 +1,4 @@
-#include "vdtnav/uav_camera/runway_scene.hpp"
+#include "vdtnav/camera_sim/runway_scene.hpp"
 
 #include <algorithm>
 #include <array>

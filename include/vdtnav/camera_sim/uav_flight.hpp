@@ -11,9 +11,9 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include "vdtnav/camera_sim/runway_scene.hpp"
 #include "vdtnav/core/pose2.hpp"
 #include "vdtnav/sensor/odometry.hpp"
-#include "vdtnav/uav_camera/runway_scene.hpp"
 #include "vdtnav/uav_camera/uav_rig.hpp"
 
 namespace vdtnav::uav_camera {

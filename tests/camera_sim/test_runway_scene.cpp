@@ -1,7 +1,7 @@
 // Tests of the simulated runway: the figure-of-eight geometry, the texture against the marking
 // map built from the same geometry, and the map_server files the localizer reads.
 
-#include "vdtnav/uav_camera/runway_scene.hpp"
+#include "vdtnav/camera_sim/runway_scene.hpp"
 
 #include <cmath>
 #include <filesystem>

@@ -1,4 +1,4 @@
-#include "vdtnav/rgbd_ground/park_scene.hpp"
+#include "vdtnav/camera_sim/park_scene.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "vdtnav/rgbd_ground/landmark_detections.hpp"
+#include "vdtnav/camera_sim/landmark_detections.hpp"
 
 #include <cmath>
 
