@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "../bench_counters.hpp"
-#include "vdtnav/estimation/vdt_localizer3d.hpp"
+#include "vdtnav/estimation/recovering_localizer3d.hpp"
 #include "vdtnav/sim/lidar3d_simulator.hpp"
 #include "vdtnav/sim/room3d.hpp"
 
@@ -41,7 +41,7 @@ void BM_Localize3DScan(benchmark::State& state) {
   std::vector<ObservationSet3> scans;
   for (const ObservationSet3& s : f.scans)
     scans.push_back(s.subsampled(std::max<std::size_t>(1, s.size() / points)));
-  VdtOptimizationLocalizer3 loc(f.map);
+  RecoveringLocalizer3 loc(f.map);  // what vdtnav localize3d runs: with lost detection
   Matrix6d p = Matrix6d::Zero();
   p.diagonal() << 1e-3, 1e-3, 1e-3, 1e-4, 1e-4, 1e-4;
   Vector6d off;

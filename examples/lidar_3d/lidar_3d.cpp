@@ -6,7 +6,7 @@
 // degrees as on uneven ground; odometry and an IMU's roll and pitch are noisy. Every scan becomes
 // observations through the point cloud front end (observations_from_cloud, voxel-downsampled to
 // about --points readings) and goes to two localizers on the same map (one pyramid):
-//   vdt-opt-6dof  VdtOptimizationLocalizer3, the full pose;
+//   vdt-opt-6dof  VdtOptimizationLocalizer3 (in RecoveringLocalizer3), the full pose;
 //   vdt-opt-4dof  the same with x, y, z, yaw estimated and roll/pitch held at the IMU's.
 // Map: the generated 3D room (default) or --map FILE (.bt/.ot OctoMap, or a point cloud). The
 // scans are ray cast in that very voxel grid: on it the map has no error but its quantisation
@@ -35,7 +35,7 @@
 #include "lidar_3d_study.hpp"
 #include "vdtnav/core/error.hpp"
 #include "vdtnav/estimation/localizer_factory.hpp"
-#include "vdtnav/estimation/vdt_localizer3d.hpp"
+#include "vdtnav/estimation/recovering_localizer3d.hpp"
 #include "vdtnav/eval/nees.hpp"
 #include "vdtnav/pcl/cloud_observations.hpp"
 #include "vdtnav/sim/lidar3d_simulator.hpp"
@@ -113,8 +113,8 @@ int main(int argc, char** argv) {
     // ------------------------------------------------------------------ the localizers
     VdtLocalizer3Options o4 = o6;
     o4.optimizer.four_dof = true;
-    VdtOptimizationLocalizer3 loc6(vdt, o6);
-    VdtOptimizationLocalizer3 loc4(loc6.optimizer(), o4);  // the same pyramid
+    RecoveringLocalizer3 loc6(vdt, o6);
+    RecoveringLocalizer3 loc4(loc6.tracker().optimizer(), o4);  // the same pyramid
 
     // ------------------------------------------------------------------ the rebuilt map
     std::size_t mapping_scans = 0;
@@ -135,8 +135,8 @@ int main(int argc, char** argv) {
     o6r.optimizer.sensor.map_pose_sigma = map_pose_sigma;
     o4r.optimizer = o6r.optimizer;
     o4r.optimizer.four_dof = true;
-    VdtOptimizationLocalizer3 loc6r(rebuilt, o6r);
-    VdtOptimizationLocalizer3 loc4r(loc6r.optimizer(), o4r);
+    RecoveringLocalizer3 loc6r(rebuilt, o6r);
+    RecoveringLocalizer3 loc4r(loc6r.tracker().optimizer(), o4r);
     Matrix6d p0 = Matrix6d::Zero();
     p0.diagonal() << 0.05 * 0.05, 0.05 * 0.05, 0.05 * 0.05, 0.02 * 0.02, 0.02 * 0.02, 0.02 * 0.02;
     std::mt19937 rng(seed);
@@ -144,7 +144,7 @@ int main(int argc, char** argv) {
     Vector6d start_error;
     for (int k = 0; k < 6; ++k) start_error[k] = std::sqrt(p0(k, k)) * n01(rng);
     const Pose3 start = oplus(truth.front(), start_error);
-    VdtOptimizationLocalizer3* locs[4] = {&loc6, &loc4, &loc6r, &loc4r};
+    RecoveringLocalizer3* locs[4] = {&loc6, &loc4, &loc6r, &loc4r};
     lidar3d::Run runs[lidar3d::kRuns];
     for (int m = 0; m < lidar3d::kRuns; ++m) {
       locs[m]->reset(start, p0);

@@ -1,22 +1,11 @@
 #include "vdtnav/estimation/recovering_localizer.hpp"
 
-#include <algorithm>
-#include <chrono>
 #include <cmath>
 
+#include "global_reacquisition.hpp"
 #include "vdtnav/core/error.hpp"
-#include "vdtnav/estimation/guess_search.hpp"
 
 namespace vdtnav {
-
-namespace {
-
-bool distinct(const Pose2& a, const Pose2& b, const GlobalLocalizationOptions& o) {
-  return (a.head<2>() - b.head<2>()).norm() > o.distinct_distance ||
-         std::abs(wrap_angle(a[2] - b[2])) > o.distinct_angle;
-}
-
-}  // namespace
 
 void RecoveryOptions::validate() const {
   VDTNAV_CHECK(min_readings >= 0, "recovery: min_readings must be >= 0");
@@ -31,247 +20,92 @@ void RecoveryOptions::validate() const {
   agreement.validate();
 }
 
-RecoveringLocalizer::RecoveringLocalizer(std::unique_ptr<Localizer2D> tracker, const VdtMap2& map,
-                                         const OccupancyGrid<2>& occupancy,
-                                         const GlobalLocalizationOptions& global,
-                                         const RecoveryOptions& options,
-                                         const MapKnowledge& knowledge)
+template <int Dim>
+RecoveringLocalizerT<Dim>::RecoveringLocalizerT(std::unique_ptr<TrackerT<Dim>> tracker,
+                                                std::unique_ptr<Reacquisition<Dim>> reacquisition,
+                                                const LostWatchOptions& options)
     : tracker_(std::move(tracker)),
-      map_(&map),
-      knowledge_(knowledge),
-      model_(map, global.optimizer.sensor),
-      global_(map, occupancy, global, knowledge),
-      optimizer_(map, global.optimizer),
+      reacquisition_(std::move(reacquisition)),
       options_(options),
       detector_(options.lost) {
   VDTNAV_CHECK(tracker_ != nullptr, "recovering localizer: no tracker");
-  options_.validate();
+  VDTNAV_CHECK(reacquisition_ != nullptr, "recovering localizer: no reacquisition");
+  VDTNAV_CHECK(options_.min_readings >= 0, "recovery: min_readings must be >= 0");
+  options_.lost.validate();
 }
 
-void RecoveringLocalizer::reset(const Pose2& pose, const Eigen::Matrix3d& covariance) {
+template <int Dim>
+void RecoveringLocalizerT<Dim>::reset(const Pose& pose, const Covariance& covariance) {
   tracker_->reset(pose, covariance);
   detector_.reset();
-  drop_search();
+  reacquisition_->drop();
+  lost_scans_ = 0;
 }
 
-RecoveringLocalizer::~RecoveringLocalizer() { drop_search(); }
-
-void RecoveringLocalizer::drop_search() {
-  if (worker_.valid()) {
-    cancel_->store(true, std::memory_order_relaxed);
-    worker_.wait();  // within a chunk of boxes
-    worker_ = {};
-  }
-  search_.reset();
-  candidates_.clear();
-}
-
-void RecoveringLocalizer::start_search(GlobalLocalizer::Search search) {
-  if (!options_.search_thread) {
-    search_ = std::move(search);
-    return;
-  }
-  cancel_ = std::make_shared<std::atomic<bool>>(false);
-  worker_ = std::async(std::launch::async, [s = std::move(search), cancel = cancel_]() mutable {
-    // Chunks of boxes between looks at the flag: a cancelled search stops within one.
-    constexpr std::size_t kChunk = 10000;
-    while (!s.step(kChunk) && !cancel->load(std::memory_order_relaxed)) {
-    }
-    return std::move(s);
-  });
-}
-
-std::optional<GlobalLocalizer::Search> RecoveringLocalizer::advance_search(LocalizationResult& r) {
-  if (worker_.valid()) {
-    if (worker_.wait_for(std::chrono::seconds(0)) != std::future_status::ready) return std::nullopt;
-    return worker_.get();
-  }
-  if (!search_) return std::nullopt;
-  const std::size_t before = search_->nodes();
-  search_->step(static_cast<std::size_t>(options_.search_boxes));
-  r.work.search_boxes = static_cast<int>(search_->nodes() - before);
-  if (!search_->done()) return std::nullopt;
-  std::optional<GlobalLocalizer::Search> done = std::move(search_);
-  search_.reset();
-  return done;
-}
-
-void RecoveringLocalizer::verify(const OdometryStep& odometry, const ScanPoints& observations,
-                                 const ScanAgreement& track) {
-  const LostDetectionOptions& lo = options_.lost;
-  std::vector<Candidate> kept;
-  for (Candidate& c : candidates_) {
-    // Its first solve starts from the best pose of a window around the prediction: the leaf is
-    // a box and a heading step, carried forward by the odometry of the search's scans.
-    Pose2 start = compose(c.pose, odometry.delta);
-    if (c.scans == 0) start = local_start(observations, start);
-    c.last = optimizer_.solve(observations, start);
-    if (c.last.status == LocalizationStatus::kDiverged) continue;
-    c.pose = c.last.pose;
-    const ScanAgreement a =
-        scan_agreement(model_, *map_, knowledge_, observations, c.pose, options_.agreement);
-    c.last.explained = a.explained_fraction();
-    c.own += a;
-    c.track += track;
-    ++c.scans;
-    // Contradicted as a lost track would be: not the place.
-    const bool judged = c.own.judged() > 0 && c.own.judged() >= lo.min_judged * c.own.readings;
-    if (c.scans >= 2 && judged && c.own.contradiction() >= lo.lost_contradiction) continue;
-    kept.push_back(std::move(c));
-  }
-  candidates_ = std::move(kept);
-}
-
-Pose2 RecoveringLocalizer::local_start(const ScanPoints& observations, const Pose2& pose) const {
-  // Half a distinct pose's distance and angle each way: what the optimizer's basin cannot span.
-  GuessSearchOptions w;
-  w.window_xy = 0.5 * global_.options().distinct_distance;
-  w.window_yaw = 0.5 * global_.options().distinct_angle;
-  w.steps_xy = 5;
-  w.steps_yaw = 21;
-  w.max_beams = 120;
-  w.truncation = global_.options().truncation;
-  return search_guess(model_, observations, pose, w);
-}
-
-ScanAgreement RecoveringLocalizer::near_agreement(const ScanPoints& observations,
-                                                  const Pose2& estimate) {
-  if (agreement_.contradiction() < options_.lost.doubt_contradiction) return agreement_;
-  // A tracking error the tracker may still correct (a heading off by a few degrees puts the far
-  // readings through walls) is not a lost track: weigh the pose the map's optimizer reaches from
-  // the best start of a window around the estimate (a distinct pose's half-widths), and keep the
-  // less contradicted.
-  const LocalizationResult near =
-      optimizer_.solve(observations, local_start(observations, estimate));
-  if (near.status == LocalizationStatus::kDiverged ||
-      distinct(near.pose, estimate, global_.options())) {
-    return agreement_;
-  }
-  const ScanAgreement a =
-      scan_agreement(model_, *map_, knowledge_, observations, near.pose, options_.agreement);
-  return a.contradiction() < agreement_.contradiction() ? a : agreement_;
-}
-
-std::optional<std::size_t> RecoveringLocalizer::choose() {
-  const LostDetectionOptions& lo = options_.lost;
-  std::vector<std::size_t> passed;
-  bool pending = false;
-  for (std::size_t k = 0; k < candidates_.size(); ++k) {
-    const Candidate& c = candidates_[k];
-    if (c.scans < options_.verify_scans) {
-      pending = true;
-      continue;
-    }
-    const auto judged = [&](const ScanAgreement& a) {
-      return a.judged() > 0 && a.judged() >= lo.min_judged * a.readings;
-    };
-    // The place must be one the map knows: explained as global localization accepts a scan,
-    // and as little contradicted as a found track; and clearly better than the track: explaining
-    // more by verify_margin and, where the map judges the track, contradicted less by as much.
-    const double e = c.own.explained_fraction(), m = options_.verify_margin;
-    if (judged(c.own) && e >= global_.options().accept_fraction &&
-        c.own.contradiction() <= lo.found_contradiction && e >= c.track.explained_fraction() + m &&
-        (!judged(c.track) || c.own.contradiction() <= c.track.contradiction() - m)) {
-      passed.push_back(k);
-    }
-  }
-  if (pending) return std::nullopt;  // every candidate is judged on the same scans
-  if (passed.empty()) {              // none is the place (or none could be judged yet)
-    candidates_.clear();
-    return std::nullopt;
-  }
-  // The least contradicted; another distinct one that passes within global localization's
-  // ambiguity margin of it makes the place ambiguous.
-  std::size_t best = passed.front();
-  for (std::size_t k : passed) {
-    if (candidates_[k].own.contradiction() < candidates_[best].own.contradiction()) best = k;
-  }
-  const GlobalLocalizationOptions& go = global_.options();
-  for (std::size_t k : passed) {
-    if (distinct(candidates_[k].pose, candidates_[best].pose, go) &&
-        candidates_[k].own.contradiction() <=
-            candidates_[best].own.contradiction() + go.ambiguity_margin) {
-      ++ambiguous_;
-      ambiguous_poses_.clear();
-      for (std::size_t j : passed) ambiguous_poses_.push_back(candidates_[j].pose);
-      candidates_.clear();
-      return std::nullopt;
-    }
-  }
-  return best;
-}
-
-LocalizationResult RecoveringLocalizer::update(const OdometryStep& odometry,
-                                               const ScanPoints& observations) {
-  LocalizationResult r = tracker_->update(odometry, observations);
-  agreement_ = scan_agreement(model_, *map_, knowledge_, observations, r.pose, options_.agreement);
-  r.explained = agreement_.explained_fraction();
+template <int Dim>
+typename RecoveringLocalizerT<Dim>::Result RecoveringLocalizerT<Dim>::update(
+    const Odometry& odometry, const Observations& observations) {
+  reacquisition_->prepare(lost_scans_);
+  Result r = tracker_->update(odometry, observations);
+  agreement_ = reacquisition_->weigh(observations, r);
   if (!options_.detect) return r;
   const bool informative = static_cast<int>(observations.size()) >= options_.min_readings;
-  if (informative) detector_.update(near_agreement(observations, r.pose));
+  if (informative) detector_.update(reacquisition_->judge(observations, r, agreement_));
+  lost_scans_ = detector_.lost() ? lost_scans_ + 1 : 0;
   // Wrong, or possibly: lost, in doubt, or judged by nothing for a window's length (a track
   // that wandered where the map knows nothing is never contradicted).
   const bool wrong =
       detector_.lost() || detector_.in_doubt() || detector_.unjudged() >= options_.lost.window;
   if (options_.recover && !wrong && detector_.decided()) {
-    drop_search();  // the map agrees with the track: nothing to replace it with
+    reacquisition_->drop();  // the map agrees with the track: nothing to replace it with
   } else if (options_.recover && !informative) {
-    // Nothing to weigh: the candidates and the search's leaves follow the odometry.
-    for (Candidate& c : candidates_) c.pose = compose(c.pose, odometry.delta);
-    if (searching()) since_search_ = compose(since_search_, odometry.delta);
+    reacquisition_->follow(odometry);
   } else if (options_.recover) {
-    // 1. The candidates on this scan, beside the track.
-    if (!candidates_.empty()) {
-      r.work.candidates = static_cast<int>(candidates_.size());
-      verify(odometry, observations, agreement_);
-      if (const std::optional<std::size_t> k = choose()) {
-        const Candidate c = candidates_[*k];
-        const double h = map_->resolution();
-        const Eigen::Matrix3d cov =
-            c.last.has_covariance
-                ? c.last.covariance
-                : Eigen::Vector3d(h * h, h * h, 1e-4).asDiagonal().toDenseMatrix();
-        tracker_->reset(c.pose, cov);
-        detector_.reset();
-        drop_search();
-        ++recoveries_;
-        LocalizationResult out = c.last;
-        out.work = r.work;
-        out.iterations += r.iterations;
-        agreement_ =
-            scan_agreement(model_, *map_, knowledge_, observations, c.pose, options_.agreement);
-        return out;
-      }
-    }
-    // 2. The search: started on this scan when there is none and nothing to verify (anywhere
-    // when lost, clearly better than the track in doubt), advanced by the budget.
-    if (searching()) {
-      since_search_ = compose(since_search_, odometry.delta);
-    } else if (candidates_.empty() && wrong) {
-      const int leaf = static_cast<int>(
-          std::floor(std::log2(std::max(1.0, options_.search_leaf / map_->resolution())) + 1e-9));
-      start_search(detector_.lost()
-                       ? global_.start(observations, nullptr, 0.0, leaf)
-                       : global_.start(observations, &r.pose, options_.doubt_margin, leaf));
-      since_search_ = Pose2::Zero();
-    }
-    if (const std::optional<GlobalLocalizer::Search> done = advance_search(r)) {
-      ++searches_;
-      r.work.global_searches = 1;
-      // The leaves are poses at the search's scan: carried forward by the odometry since.
-      for (const Pose2& leaf : done->leaves()) {
-        Candidate c;
-        c.pose = compose(leaf, since_search_);
-        if (distinct(c.pose, r.pose, global_.options())) candidates_.push_back(c);
-      }
+    if (std::optional<typename Reacquisition<Dim>::Adopted> a =
+            reacquisition_->reacquire(odometry, observations, detector_, wrong, r)) {
+      tracker_->reset(a->result.pose, a->covariance);
+      detector_.reset();
+      reacquisition_->drop();
+      lost_scans_ = 0;
+      ++recoveries_;
+      Result out = std::move(a->result);
+      out.work = r.work;
+      out.iterations += r.iterations;
+      agreement_ = reacquisition_->weigh(observations, out);
+      return out;
     }
   }
   if (detector_.lost()) {
     r.status = LocalizationStatus::kLost;
-  } else if (detector_.in_doubt() && r.status == LocalizationStatus::kConverged) {
+  } else if (detector_.in_doubt() && r.status == LocalizationStatus::kConverged &&
+             reacquisition_->doubt_refuses()) {
     r.status = LocalizationStatus::kRefused;  // in doubt: not a localization on the map
   }
   return r;
 }
+
+template class RecoveringLocalizerT<2>;
+template class RecoveringLocalizerT<3>;
+
+RecoveringLocalizer::RecoveringLocalizer(std::unique_ptr<Localizer2D> tracker, const VdtMap2& map,
+                                         const OccupancyGrid<2>& occupancy,
+                                         const GlobalLocalizationOptions& global,
+                                         const RecoveryOptions& options,
+                                         const MapKnowledge& knowledge)
+    : RecoveringLocalizerT<2>(
+          std::move(tracker),
+          std::make_unique<GlobalReacquisition>(map, occupancy, global, options, knowledge),
+          LostWatchOptions{options.detect, options.recover, options.min_readings, options.lost}) {}
+
+const GlobalReacquisition& RecoveringLocalizer::global() const noexcept {
+  return static_cast<const GlobalReacquisition&>(reacquisition());
+}
+int RecoveringLocalizer::searches() const noexcept { return global().searches(); }
+int RecoveringLocalizer::ambiguous() const noexcept { return global().ambiguous(); }
+const std::vector<Pose2>& RecoveringLocalizer::ambiguous_poses() const noexcept {
+  return global().ambiguous_poses();
+}
+bool RecoveringLocalizer::searching() const noexcept { return global().searching(); }
+std::size_t RecoveringLocalizer::candidates() const noexcept { return global().candidates(); }
 
 }  // namespace vdtnav

@@ -1,5 +1,5 @@
 // The Ceres backend of VdtOptimizerT: the scan residual block ScanCost (robust loss folded in),
-// the 2D prior block PriorCost2, the Ceres settings, one solve (Ceres or the dense LM of
+// the prior block PriorCost, the Ceres settings, one solve (Ceres or the dense LM of
 // scan_lm.hpp) and the Cauchy IRLS passes of the coarse alignment.
 #include "scan_cost.hpp"
 
@@ -164,27 +164,35 @@ void set_manifold(ceres::Problem& problem, double* x, bool four_dof) {
   if (m != nullptr) problem.SetManifold(x, m);
 }
 
-/// The prior term of a 2D solve as a Ceres residual block: r = U e, U^T U the prior's
-/// information, e = X (-) mean (angle wrapped), so that 1/2 |r|^2 = 1/2 e^T I e.
-class PriorCost2 final : public ceres::SizedCostFunction<3, 3> {
+/// The prior term of a solve as a Ceres residual block: r = U e, U^T U the prior's information,
+/// e = X (-) mean in the perturbation of PoseTraits<Dim> (2D: additive, the angle wrapped; 3D: the
+/// left perturbation), so that 1/2 |r|^2 = 1/2 e^T I e. de/dX is taken as I, exact in 2D (the
+/// wrap is piecewise constant) and to first order in e in 3D, the dense solver's (scan_lm.hpp)
+/// Gauss-Newton term; the 4-DOF mode's manifold keeps the held components out of the step.
+template <int Dim>
+class PriorCost final
+    : public ceres::SizedCostFunction<PoseTraits<Dim>::kDoF, Parameterization<Dim>::kAmbient> {
  public:
-  explicit PriorCost2(const PosePrior<2>& prior)
-      : mean_(prior.mean), sqrt_information_(prior.information.llt().matrixU()) {}
+  using Traits = PoseTraits<Dim>;
+  PriorCost(const PosePrior<Dim>& prior, bool four_dof)
+      : mean_(prior.mean),
+        sqrt_information_(prior.information.llt().matrixU()),
+        four_dof_(four_dof) {}
   bool Evaluate(double const* const* params, double* residuals, double** jacobians) const override {
-    const Eigen::Vector3d e = pose_error(Pose2(params[0][0], params[0][1], params[0][2]), mean_);
-    Eigen::Map<Eigen::Vector3d> r(residuals);
+    const typename Traits::Tangent e = Traits::minus(Parameterization<Dim>::pose(params[0]), mean_);
+    Eigen::Map<typename Traits::Tangent> r(residuals);
     r = sqrt_information_ * e;
     if (jacobians != nullptr && jacobians[0] != nullptr) {
-      // de/dX = I: the 2D perturbation is additive (the angle wrap is piecewise constant).
-      Eigen::Map<Eigen::Matrix<double, 3, 3, Eigen::RowMajor>> j(jacobians[0]);
-      j = sqrt_information_;
+      const typename Parameterization<Dim>::Jacobian ambient(params[0], four_dof_);
+      ambient(sqrt_information_, jacobians[0]);
     }
     return true;
   }
 
  private:
-  Pose2 mean_;
-  Eigen::Matrix3d sqrt_information_;
+  typename Traits::Pose mean_;
+  typename Traits::Covariance sqrt_information_;
+  bool four_dof_;
 };
 
 }  // namespace
@@ -209,9 +217,8 @@ detail::ScanLmSummary run_solver(const VdtSensorModelT<Dim>& model, const Observ
   ceres::Problem problem(problem_options());
   problem.AddResidualBlock(
       new ScanCost<Dim>(model, scan, beams, setup.four_dof, sqrt_w, loss, loss_scale), nullptr, x);
-  if constexpr (Dim == 2) {
-    if (prior != nullptr) problem.AddResidualBlock(new PriorCost2(*prior), nullptr, x);
-  }
+  if (prior != nullptr)
+    problem.AddResidualBlock(new PriorCost<Dim>(*prior, setup.four_dof), nullptr, x);
   set_manifold<Dim>(problem, x, setup.four_dof);
   const ceres::Solver::Options so = solver_options(setup);
   ceres::Solver::Summary summary;

@@ -41,8 +41,9 @@ struct Parameterization<2> {
   static ceres::Manifold* manifold(bool /*four_dof*/) { return nullptr; }
   struct Jacobian {
     Jacobian(const double* /*x*/, bool /*four_dof*/) {}
-    void operator()(const Eigen::Matrix<double, 2, 3>& d, double* out) const {
-      Eigen::Map<Eigen::Matrix<double, 2, 3, Eigen::RowMajor>>{out} = d;
+    template <int Rows>
+    void operator()(const Eigen::Matrix<double, Rows, 3>& d, double* out) const {
+      Eigen::Map<Eigen::Matrix<double, Rows, 3, Eigen::RowMajor>>{out} = d;
     }
   };
 };
@@ -86,7 +87,7 @@ struct SolveSetup {
 };
 
 /// One solve of the readings in `beams` from x (updated in place), weighted by sqrt_w (empty: 1),
-/// with the prior term when `prior` is given (2D).
+/// with the prior term when `prior` is given.
 template <int Dim>
 ScanLmSummary run_solver(const VdtSensorModelT<Dim>& model, const ObservationSet<Dim>& scan,
                          const std::vector<int>& beams, const std::vector<double>& sqrt_w,

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <vector>
 
 #include <Eigen/Cholesky>
@@ -22,6 +23,28 @@ void check(const VdtLocalizer3Options& o) {
   VDTNAV_CHECK(o.accept_fraction >= 0.0 && o.accept_fraction <= 1.0,
                "localizer3d: accept_fraction must be in [0, 1]");
   o.lost.validate();
+}
+
+/// The prediction as a prior (VdtOptimizerOptions::odometry_prior): the information of its
+/// covariance over the components it gives a variance (a held roll and pitch without a sigma
+/// have none: no information there), when that block is positive definite.
+std::optional<PosePrior<3>> prediction_prior(const Pose3& mean, const Matrix6d& covariance) {
+  std::vector<int> k;
+  for (int i = 0; i < 6; ++i)
+    if (covariance(i, i) > 0.0) k.push_back(i);
+  const int n = static_cast<int>(k.size());
+  if (n == 0) return std::nullopt;
+  Eigen::MatrixXd block(n, n);
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) block(i, j) = covariance(k[i], k[j]);
+  const Eigen::LLT<Eigen::MatrixXd> llt(block);
+  if (llt.info() != Eigen::Success) return std::nullopt;
+  const Eigen::MatrixXd information = llt.solve(Eigen::MatrixXd::Identity(n, n));
+  PosePrior<3> prior;
+  prior.mean = mean;
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) prior.information(k[i], k[j]) = information(i, j);
+  return prior;
 }
 
 VdtOptimizerOptions six_dof(VdtOptimizerOptions o) {
@@ -51,8 +74,7 @@ VdtOptimizationLocalizer3::VdtOptimizationLocalizer3(const VdtField3& map,
                                                      const VdtLocalizer3Options& options)
     : options_(options),
       optimizer_(map, options.optimizer),
-      full_(optimizer_, six_dof(options.optimizer)),
-      lost_(options.lost) {
+      full_(optimizer_, six_dof(options.optimizer)) {
   check(options);
 }
 
@@ -60,16 +82,14 @@ VdtOptimizationLocalizer3::VdtOptimizationLocalizer3(const VdtOptimizer3& shared
                                                      const VdtLocalizer3Options& options)
     : options_(options),
       optimizer_(shared, options.optimizer),
-      full_(shared, six_dof(options.optimizer)),
-      lost_(options.lost) {
+      full_(shared, six_dof(options.optimizer)) {
   check(options);
 }
 
 void VdtOptimizationLocalizer3::reset(const Pose3& pose, const Matrix6d& covariance) {
   pose_ = pose;
   covariance_ = covariance;
-  lost_.reset();
-  lost_scans_ = 0;
+  starts_ = StartSet::kAxes;
 }
 
 std::string VdtOptimizationLocalizer3::name() const {
@@ -148,7 +168,13 @@ LocalizationResult3 VdtOptimizationLocalizer3::update(const OdometryStep3& odome
 
   // 2. Update, and whether the map explains the scan there.
   const VdtSensorModel3& model = optimizer_.sensor_model();
-  LocalizationResult3 r = optimizer_.solve(observations, guess);
+  // The prediction as a prior (options.optimizer.odometry_prior), as in 2D: a direction the scan
+  // leaves free (a floor alone fixes z, roll and pitch) stays at the prediction, with its variance.
+  // The multi-start below solves without it: it looks for where the map explains the scan.
+  const std::optional<PosePrior<3>> prior =
+      optimizer_.options().odometry_prior ? prediction_prior(guess, predicted) : std::nullopt;
+  LocalizationResult3 r =
+      prior ? optimizer_.solve(observations, guess, *prior) : optimizer_.solve(observations, guess);
   const auto usable = [](const LocalizationResult3& x) {
     return x.status == LocalizationStatus::kConverged ||
            x.status == LocalizationStatus::kNotConverged;
@@ -159,13 +185,11 @@ LocalizationResult3 VdtOptimizationLocalizer3::update(const OdometryStep3& odome
       r.status == LocalizationStatus::kConverged
           ? explained_fraction(model, observations, r.pose, options_.explained_distance)
           : 0.0;
-  const bool attempt =
-      lost_scans_ == 0 || (lost_scans_ & (lost_scans_ - 1)) == 0 || lost_scans_ % 16 == 0;
-  if (explained < options_.accept_fraction && attempt) {
+  if (explained < options_.accept_fraction && starts_ != StartSet::kNone) {
     MultiStartOptions ms = options_.multi_start;
     // The attitude grid (~120 subsample solves) only to re-acquire: a tracked scan needs the starts
     // along the axes at most.
-    if (lost_scans_ == 0) ms.attitude_grid = 0;
+    if (starts_ == StartSet::kAxes) ms.attitude_grid = 0;
     ms.explained_distance = options_.explained_distance;
     ms.accept_fraction = std::max(ms.accept_fraction, options_.accept_fraction);
     LocalizationResult3 m = solve_multi_start(optimizer_, observations, guess, ms);
@@ -207,18 +231,6 @@ LocalizationResult3 VdtOptimizationLocalizer3::update(const OdometryStep3& odome
         r.covariance.col(k).setConstant(std::numeric_limits<double>::quiet_NaN());
       }
     }
-  }
-  // 3. Lost detection. A 3D map here carries no unknown space and the readings are not traced
-  // through it: every reading the map does not explain counts as contradicting the pose.
-  ScanAgreement agreement;
-  agreement.readings = static_cast<int>(observations.size());
-  agreement.explained = static_cast<int>(std::lround(explained * agreement.readings));
-  agreement.contradicted = agreement.readings - agreement.explained;
-  if (lost_.update(agreement)) {
-    r.status = LocalizationStatus::kLost;
-    ++lost_scans_;
-  } else {
-    lost_scans_ = 0;
   }
   return r;
 }

@@ -115,7 +115,6 @@ template <int Dim>
 typename VdtOptimizerT<Dim>::Result VdtOptimizerT<Dim>::solve(const Observations& scan,
                                                               const Pose& guess,
                                                               const PosePrior<Dim>& prior) const {
-  VDTNAV_CHECK(Dim == 2, "optimizer: a pose prior is supported in 2D only");
   VDTNAV_CHECK(prior.information.allFinite(), "optimizer: the prior's information is not finite");
   // The solvers minimise the plain VCD, 1/2 sum |d_i|^2 (2.17), not 1/2 sum d_i^T R_i^-1 d_i: the
   // prior joins it in the same units, times s^2, the a priori variance of one disparity component

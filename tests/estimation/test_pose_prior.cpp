@@ -1,6 +1,8 @@
 // The optimizer with a pose prior (a maximum a posteriori solve, VdtOptimizerOptions::
 // odometry_prior): on one straight wall the prior holds the direction the wall leaves free and
-// the scan sets the others; a strong prior wins, a weak one changes nothing.
+// the scan sets the others; a strong prior wins, a weak one changes nothing. The same prior in 3D:
+// on one floor it holds x, y and the yaw, the scan sets z, roll and pitch (both solvers, and the
+// sequential 3D localizer's path).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -8,6 +10,7 @@
 
 #include "scan_fixture.hpp"
 #include "solver_choice.hpp"
+#include "vdtnav/estimation/vdt_localizer3d.hpp"
 #include "vdtnav/estimation/vdt_optimizer.hpp"
 
 namespace vdtnav {
@@ -125,6 +128,112 @@ TEST(PosePriorLocalizer, AlongAWallTheEstimateFollowsTheOdometryWithItsUncertain
   EXPECT_GE(r.covariance(0, 0), 0.99 * p0(0, 0));
   EXPECT_LT(r.covariance(0, 0), 2.0 * p0(0, 0));
   EXPECT_LT(r.covariance(1, 1), 1e-3 * p0(1, 1));
+}
+
+/// A 6 m x 6 m x 2 m map at 0.1 m with one floor: the slab of cells centred at z = 0.25 m.
+const VdtMap3& floor_map() {
+  static const VdtMap3 map = [] {
+    OccupancyGrid<3> occ(Eigen::Vector3i(60, 60, 20), GridFrame<3>(0.1, Eigen::Vector3d::Zero()),
+                         0);
+    for (int x = 0; x < 60; ++x)
+      for (int y = 0; y < 60; ++y) occ(Eigen::Vector3i(x, y, 2)) = 1;
+    return VdtMap3::build(occ);
+  }();
+  return map;
+}
+
+/// Readings of the floor from `pose`: 11 x 11 endpoints on a 2 m square around (3, 3), noise sigma.
+ObservationSet3 floor_scan(const Pose3& pose, double sigma, std::mt19937& rng) {
+  ObservationSet3 s;
+  s.sigma_range = 0.01;
+  std::normal_distribution<double> noise(0.0, sigma);
+  for (int i = 0; i <= 10; ++i) {
+    for (int j = 0; j <= 10; ++j) {
+      const Eigen::Vector3d world(2.0 + 0.2 * i, 2.0 + 0.2 * j, 0.25);
+      const Eigen::Vector3d rel = pose.linear().transpose() * (world - pose.translation());
+      s.add(Eigen::Vector3d::Zero(), rel.normalized(), rel.norm() + noise(rng),
+            static_cast<std::size_t>(11 * i + j));
+    }
+  }
+  return s;
+}
+
+TEST_P(PosePriorTest, OnOneFloorThePriorHoldsXYAndYawAndTheScanTheOthers) {
+  VdtOptimizerOptions o;
+  GetParam().apply(o);
+  o.coarse_threshold = 1.0;  // the prior's offsets are small: the fine solve alone
+  const VdtOptimizer3 opt(floor_map(), o);
+  std::mt19937 rng(3);
+  const Pose3 truth = pose3_from_xyz_rpy(3.0, 3.0, 1.25, 0.03, -0.02, 0.4);
+  const ObservationSet3 scan = floor_scan(truth, 0.003, rng);
+  Vector6d offset;
+  offset << 0.07, 0.03, 0.04, 0.02, -0.015, 0.02;
+  PosePrior<3> prior;
+  prior.mean = oplus(truth, offset);
+  Vector6d sd;
+  sd << 0.1, 0.1, 0.1, 0.05, 0.05, 0.05;
+  prior.information = sd.cwiseInverse().cwiseAbs2().asDiagonal();
+
+  const LocalizationResult3 r = opt.solve(scan, prior.mean, prior);
+  ASSERT_EQ(r.status, LocalizationStatus::kConverged);
+  ASSERT_TRUE(r.has_covariance);
+  // The floor says nothing of x, y and the turn about the vertical: they stay at the prior's
+  // mean, with the prior's variance (the yaw to second order in the tilt it corrects).
+  const Vector6d from_mean = ominus(r.pose, prior.mean);
+  EXPECT_NEAR(from_mean[0], 0.0, 1e-4);
+  EXPECT_NEAR(from_mean[1], 0.0, 1e-4);
+  EXPECT_NEAR(from_mean[5], 0.0, 1e-3);
+  EXPECT_NEAR(r.covariance(0, 0), sd[0] * sd[0], 0.01 * sd[0] * sd[0]);
+  EXPECT_NEAR(r.covariance(5, 5), sd[5] * sd[5], 0.02 * sd[5] * sd[5]);
+  // Height, roll and pitch: the scan (121 readings, 3 mm noise) outweighs the prior.
+  const Vector6d from_truth = ominus(r.pose, truth);
+  EXPECT_NEAR(from_truth[2], 0.0, 3e-3);
+  EXPECT_NEAR(from_truth[3], 0.0, 3e-3);
+  EXPECT_NEAR(from_truth[4], 0.0, 3e-3);
+  EXPECT_LT(r.covariance(2, 2), 1e-3 * sd[2] * sd[2]);
+
+  // Without the prior the same scan leaves x, y and yaw undetermined: no covariance.
+  const LocalizationResult3 ml = opt.solve(scan, prior.mean);
+  EXPECT_FALSE(ml.has_covariance && ml.covariance(0, 0) < 100.0 * sd[0] * sd[0]);
+}
+
+// The sequential 3D localizer with optimizer.odometry_prior: over a floor the estimate follows
+// the odometry in x, y and yaw with the prediction's variance, and is converged; without the
+// prior the same scan has no covariance, and the update is refused (the prediction kept).
+TEST(PosePriorLocalizer, OverAFloorThe3dEstimateFollowsTheOdometryWithItsUncertainty) {
+  VdtLocalizer3Options o;
+  o.optimizer.odometry_prior = true;
+  o.optimizer.coarse_threshold = 1.0;
+  o.optimizer.sensor.map_correlation_length = 0.0;  // independent map errors: the scan's own z
+  VdtOptimizationLocalizer3 loc(floor_map(), o);
+  VdtLocalizer3Options off = o;
+  off.optimizer.odometry_prior = false;
+  VdtOptimizationLocalizer3 without(floor_map(), off);
+  const Pose3 start = pose3_from_xyz_rpy(2.9, 3.0, 1.25, 0.03, -0.02, 0.4);
+  Matrix6d p0 = Matrix6d::Zero();
+  p0.diagonal() << 0.05 * 0.05, 0.05 * 0.05, 0.05 * 0.05, 0.02 * 0.02, 0.02 * 0.02, 0.02 * 0.02;
+  loc.reset(start, p0);
+  without.reset(start, p0);
+  OdometryStep3 odo;
+  odo.dt = 0.1;
+  odo.delta = pose3_from_xyz_rpy(0.1, 0.0, 0.0, 0.0, 0.0, 0.0);
+  const Pose3 truth = start * odo.delta;  // the odometry is exact here
+  std::mt19937 rng(6);
+  const ObservationSet3 scan = floor_scan(truth, 0.003, rng);
+  const LocalizationResult3 r = loc.update(odo, scan);
+  ASSERT_EQ(r.status, LocalizationStatus::kConverged);
+  ASSERT_TRUE(r.has_covariance);
+  const Vector6d e = ominus(r.pose, truth);
+  EXPECT_NEAR(e[0], 0.0, 1e-4);  // nothing in the scan moves it over the floor
+  EXPECT_NEAR(e[1], 0.0, 1e-4);
+  EXPECT_NEAR(e[2], 0.0, 3e-3);
+  EXPECT_LT(e.segment<3>(3).norm(), 3e-3);
+  // Over the floor the uncertainty is the prediction's (the start's, grown by the odometry);
+  // in height the scan's, far smaller.
+  EXPECT_GE(r.covariance(0, 0), 0.99 * p0(0, 0));
+  EXPECT_LT(r.covariance(0, 0), 2.0 * p0(0, 0));
+  EXPECT_LT(r.covariance(2, 2), 0.01 * p0(2, 2));
+  EXPECT_NE(without.update(odo, scan).status, LocalizationStatus::kConverged);
 }
 
 }  // namespace

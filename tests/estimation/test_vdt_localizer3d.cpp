@@ -1,7 +1,8 @@
 // The sequential 3D localizer (VdtOptimizationLocalizer3) on a simulated VLP-16 drive through the
 // generated 3D room: accuracy and covariance against the truth (NEES), the 4-DOF mode's held
 // attitude, the prediction's covariance against Monte Carlo, and a teleport: the loss is reported,
-// no wrong pose is reported converged.
+// no wrong pose is reported converged, and recovery's template (RecoveringLocalizerT<3>) adopting
+// what a 3D reacquisition finds.
 #include "vdtnav/estimation/vdt_localizer3d.hpp"
 
 #include <gtest/gtest.h>
@@ -14,6 +15,7 @@
 #include <Eigen/Eigenvalues>
 
 #include "vdtnav/core/error.hpp"
+#include "vdtnav/estimation/recovering_localizer3d.hpp"
 #include "vdtnav/eval/nees.hpp"
 #include "vdtnav/sim/lidar3d_simulator.hpp"
 #include "vdtnav/sim/room3d.hpp"
@@ -221,33 +223,137 @@ TEST(VdtLocalizer3, ThePredictionsCovarianceMatchesMonteCarlo) {
 }
 
 TEST(VdtLocalizer3, ATeleportIsReportedLostAndNoWrongPoseConverged) {
+  // The tracker inside recovery (what `vdtnav localize3d` runs) reports the loss; the tracker
+  // alone refuses the scans it cannot match but has no window test: never kLost.
   const Drive& d = drive();
   VdtLocalizer3Options o;
-  VdtOptimizationLocalizer3 loc(*d.map, o);
+  RecoveringLocalizer3 loc(*d.map, o);
+  VdtOptimizationLocalizer3 alone(loc.tracker().optimizer(), o);
   std::mt19937 rng(4);
   loc.reset(d.truth[0], start_covariance());
+  alone.reset(d.truth[0], start_covariance());
   const Eigen::Vector3d jump(0.0, 3.5, 0.0);  // the robot is carried away; odometry says nothing
-  int lost_after = -1, wrong_converged = 0;
+  int lost_after = -1, wrong_converged = 0, alone_lost = 0, alone_refused = 0;
   for (std::size_t k = 1; k < 36; ++k) {  // 16 scans after the teleport
     const bool moved = k >= 20;
     Pose3 where = d.truth[k];
     if (moved) where.translation() += jump;
     const OdometryStep3 odo = o.noisy_odometry(d.truth[k - 1], d.truth[k], 0.1, rng);
-    const LocalizationResult3 r = loc.update(odo, scan_at(where, rng));
+    const ObservationSet3 scan = scan_at(where, rng);
+    const LocalizationResult3 r = loc.update(odo, scan);
+    const LocalizationResult3 a = alone.update(odo, scan);
     if (!moved) {
       EXPECT_EQ(r.status, LocalizationStatus::kConverged) << k;
+      EXPECT_EQ(a.status, LocalizationStatus::kConverged) << k;
       continue;
     }
     if (r.status == LocalizationStatus::kLost && lost_after < 0)
       lost_after = static_cast<int>(k) - 20;
     const bool far = (r.pose.translation() - where.translation()).norm() > 0.3;
     wrong_converged += r.status == LocalizationStatus::kConverged && far;
+    alone_lost += a.status == LocalizationStatus::kLost;
+    alone_refused += a.status == LocalizationStatus::kRefused;
   }
-  std::printf("teleport: lost reported %d scans after, wrong poses reported converged: %d\n",
-              lost_after, wrong_converged);
+  std::printf(
+      "teleport: lost reported %d scans after, wrong poses reported converged: %d; the "
+      "tracker alone: %d lost, %d refused\n",
+      lost_after, wrong_converged, alone_lost, alone_refused);
   EXPECT_GE(lost_after, 0);
   EXPECT_LE(lost_after, 6);
   EXPECT_EQ(wrong_converged, 0);
+  EXPECT_EQ(alone_lost, 0);
+  EXPECT_GE(alone_refused, 10);
+}
+
+/// A tracker that never moves (an estimate stuck where it was reset), explaining nothing.
+class StuckTracker3 final : public Localizer3D {
+ public:
+  void reset(const Pose3& pose, const Matrix6d& covariance) override {
+    pose_ = pose;
+    covariance_ = covariance;
+  }
+  LocalizationResult3 update(const OdometryStep3&, const ObservationSet3&) override {
+    LocalizationResult3 r;
+    r.status = LocalizationStatus::kConverged;
+    r.pose = pose_;
+    r.covariance = covariance_;
+    r.has_covariance = true;
+    r.explained = explained;
+    return r;
+  }
+  std::string name() const override { return "stuck"; }
+  double explained = 0.0;
+
+ private:
+  Pose3 pose_ = Pose3::Identity();
+  Matrix6d covariance_ = Matrix6d::Identity();
+};
+
+/// A 3D reacquisition that finds `found` when asked (the test's stand-in for a search).
+class FindsAPose3 final : public Reacquisition<3> {
+ public:
+  explicit FindsAPose3(const Pose3& found) : found_(found) {}
+  ScanAgreement weigh(const ObservationSet3& observations, LocalizationResult3& r) override {
+    ScanAgreement a;
+    a.readings = static_cast<int>(observations.size());
+    a.explained = static_cast<int>(std::lround(r.explained * a.readings));
+    a.contradicted = a.readings - a.explained;
+    return a;
+  }
+  std::optional<Adopted> reacquire(const OdometryStep3&, const ObservationSet3&,
+                                   const LostDetector& detector, bool wrong,
+                                   LocalizationResult3&) override {
+    ++asked;
+    if (!detector.lost() || !wrong) return std::nullopt;
+    Adopted a;
+    a.result.status = LocalizationStatus::kConverged;
+    a.result.pose = found_;
+    a.result.explained = 1.0;
+    a.covariance = 1e-4 * Matrix6d::Identity();
+    a.result.covariance = a.covariance;
+    a.result.has_covariance = true;
+    return a;
+  }
+  int asked = 0;
+
+ private:
+  Pose3 found_;
+};
+
+TEST(RecoveringLocalizer3, TheTemplateAdoptsWhatA3dReacquisitionFindsAndRestartsTheTracker) {
+  // Lost detection and recovery over the pose traits: the same window test and adoption as in
+  // 2D, around a 3D tracker. A stuck tracker explaining nothing is lost once the window fills
+  // (W = 5 scans), and the pose the reacquisition then finds restarts it.
+  auto tracker = std::make_unique<StuckTracker3>();
+  StuckTracker3* stuck = tracker.get();
+  const Pose3 found = pose3_from_xyz_rpy(4.0, -1.0, 0.5, 0.01, -0.02, 1.2);
+  auto finder = std::make_unique<FindsAPose3>(found);
+  FindsAPose3* f = finder.get();
+  LostWatchOptions w;
+  w.min_readings = 1;
+  RecoveringLocalizerT<3> loc(std::move(tracker), std::move(finder), w);
+  loc.reset(Pose3::Identity(), Matrix6d::Identity());
+  ObservationSet3 scan;
+  for (int i = 0; i < 50; ++i)
+    scan.add(Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitX(), 1.0 + 0.1 * i, i);
+  int first_adopted = -1;
+  for (int k = 0; k < 8 && first_adopted < 0; ++k) {
+    const LocalizationResult3 r = loc.update(OdometryStep3{}, scan);
+    if (loc.recoveries() == 1) {
+      first_adopted = k;
+      EXPECT_LT((r.pose.matrix() - found.matrix()).norm(), 1e-12);
+      EXPECT_EQ(r.status, LocalizationStatus::kConverged);
+    } else if (k < 4) {
+      EXPECT_NE(r.status, LocalizationStatus::kLost) << k;  // the window is not full yet
+    }
+  }
+  EXPECT_EQ(first_adopted, 4);          // the 5th scan fills the window: lost, and found at once
+  EXPECT_FALSE(loc.detector().lost());  // a new start
+  stuck->explained = 1.0;
+  const LocalizationResult3 after = loc.update(OdometryStep3{}, scan);
+  EXPECT_LT((after.pose.matrix() - found.matrix()).norm(), 1e-12);  // the tracker restarted there
+  EXPECT_EQ(after.status, LocalizationStatus::kConverged);
+  EXPECT_GE(f->asked, 1);
 }
 
 }  // namespace

@@ -22,7 +22,7 @@
 #include "vdtnav/estimation/localizer_config.hpp"
 #include "vdtnav/estimation/localizer_factory.hpp"
 #include "vdtnav/estimation/multi_start.hpp"
-#include "vdtnav/estimation/vdt_localizer3d.hpp"
+#include "vdtnav/estimation/recovering_localizer3d.hpp"
 #include "vdtnav/estimation/vdt_optimizer.hpp"
 #include "vdtnav/io/tum_trajectory.hpp"
 #include "vdtnav/pcl/cloud_observations.hpp"
@@ -273,9 +273,9 @@ void run_localize3d(const Localize3dArgs& a) {
   // Lost when a window explains no more than --min-explained (every unexplained reading counts
   // against the pose in 3D): contradiction 1 - min_explained, 0.5 at least.
   lo.lost.lost_contradiction = std::max(lo.lost.lost_contradiction, 1.0 - a.min_explained);
-  lo.held_attitude_sigma = a.attitude_sigma;  // 4-DOF, no IMU: NaN = roll, pitch not estimated
-  VdtOptimizationLocalizer3 tracker(optimizer, lo);
-  std::vector<StampedPose3> trajectory;  // the poses of the accepted statuses
+  lo.held_attitude_sigma = a.attitude_sigma;    // 4-DOF, no IMU: NaN = roll, pitch not estimated
+  RecoveringLocalizer3 tracker(optimizer, lo);  // lost detection and recovery around it
+  std::vector<StampedPose3> trajectory;         // the poses of the accepted statuses
   std::vector<std::string> table = {status_table_header()};
   Pose3 last = init, before_last = init;
   std::size_t accepted = 0, refused = 0, lost = 0;
@@ -302,7 +302,7 @@ void run_localize3d(const Localize3dArgs& a) {
       if (r.result.status == LocalizationStatus::kConverged)
         tracker.reset(r.result.pose, r.result.covariance);
       if (a.dof == 4 && r.result.has_covariance) {  // the held roll and pitch (the file comment)
-        r.result.covariance = tracker.with_held_attitude(obs, r.result, a.attitude_sigma);
+        r.result.covariance = tracker.tracker().with_held_attitude(obs, r.result, a.attitude_sigma);
       }
     } else {
       OdometryStep3 motion;  // constant velocity unless the input has odometry

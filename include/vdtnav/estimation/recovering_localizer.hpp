@@ -1,8 +1,12 @@
 #pragma once
 /// \file
-/// \brief Never lost for good, never made wrong: any 2D tracking localizer (vdt-opt, vdt-ekf, ...)
-/// with lost detection (lost_detection.hpp) and re-acquisition by global localization
-/// (global_localization.hpp) — the kidnapped robot — whose update time is bounded.
+/// \brief Never lost for good, never made wrong: a tracking localizer with lost detection
+/// (lost_detection.hpp) and re-acquisition — the kidnapped robot — whose update time is bounded.
+/// One template over the pose traits, RecoveringLocalizerT<Dim>, runs the window test, the
+/// statuses and the adoption for both dimensions; what depends on the space searched is a
+/// Reacquisition<Dim> (below; 3D's in recovering_localizer3d.hpp). In 2D, RecoveringLocalizer
+/// wraps any 2D tracker (vdt-opt, vdt-ekf, ...) and re-acquires by global localization
+/// (global_localization.hpp):
 ///
 /// Each update runs the tracker, then weighs the scan at its estimate (scan_agreement.hpp: what
 /// the map explains, contradicts, cannot judge) in the window test. Status kLost only when the
@@ -29,6 +33,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "vdtnav/estimation/global_localization.hpp"
@@ -40,6 +45,120 @@
 #include "vdtnav/sensor/vdt_sensor_model.hpp"
 
 namespace vdtnav {
+
+/// \brief The localizer interface a tracker of Dim implements: Localizer2D (which also takes a
+/// LaserScan) in 2D, Localizer3D in 3D.
+template <int Dim>
+using TrackerT = std::conditional_t<Dim == 2, Localizer2D, Localizer3D>;
+
+/// \brief What recovery does that depends on the space searched, where 2D and 3D stay apart:
+/// how a scan is weighed at a pose and how another pose is found. In 2D the scan is traced
+/// through the map (scan_agreement.hpp: explained, contradicted, or where the map knows nothing)
+/// and a branch and bound over the whole map (x, y, phi: global_localization.hpp) proposes
+/// candidates; in 3D the maps carry no unknown space, so every reading the map does not explain
+/// contradicts, and a branch and bound over six dimensions does not fit a scan period, so
+/// re-acquisition is multi-start around the prediction (multi_start.hpp) on the lost scans
+/// (recovering_localizer3d.hpp). The window test, the statuses and the adoption are
+/// RecoveringLocalizerT's, shared.
+template <int Dim>
+class Reacquisition {
+ public:
+  using Covariance = typename PoseTraits<Dim>::Covariance;
+  using Odometry = typename OdometryTraits<Dim>::Step;
+  using Observations = ObservationSet<Dim>;
+  using Result = LocalizationResultT<Dim>;
+  /// A pose to adopt: the result reported, and the covariance the tracker restarts with.
+  struct Adopted {
+    Result result;
+    Covariance covariance;
+  };
+
+  virtual ~Reacquisition() = default;
+  /// \brief Before the tracker's update, after `lost_scans` updates in a row reported lost.
+  virtual void prepare(int lost_scans) { static_cast<void>(lost_scans); }
+  /// \brief The scan weighed at the tracker's result (which gains its explained fraction).
+  [[nodiscard]] virtual ScanAgreement weigh(const Observations& observations, Result& r) = 0;
+  /// \brief What the window test is given: `at` (weighed at the estimate) or what says better
+  /// whether the track is wrong.
+  [[nodiscard]] virtual ScanAgreement judge(const Observations& observations, const Result& r,
+                                            const ScanAgreement& at) {
+    static_cast<void>(observations);
+    static_cast<void>(r);
+    return at;
+  }
+  /// \brief The map agrees with the track, or the track starts again: nothing to replace it.
+  virtual void drop() {}
+  /// \brief A scan with too few readings to weigh: what is held follows the odometry.
+  virtual void follow(const Odometry& odometry) { static_cast<void>(odometry); }
+  /// \brief The track is wrong (`detector` lost, in doubt, or unjudged for a window) or was;
+  /// `r` the tracker's result (its work gains what this update ran).
+  /// \return a pose to adopt instead of the track, if one is found.
+  [[nodiscard]] virtual std::optional<Adopted> reacquire(const Odometry& odometry,
+                                                         const Observations& observations,
+                                                         const LostDetector& detector, bool wrong,
+                                                         Result& r) = 0;
+  /// \return whether a window in doubt (not lost) refuses a converged result: where a search for
+  /// a clearly better pose runs (2D), a doubted pose is not reported as a localization.
+  [[nodiscard]] virtual bool doubt_refuses() const { return true; }
+};
+
+/// \brief What the window test and recovery of RecoveringLocalizerT do (the rest is the
+/// Reacquisition's).
+struct LostWatchOptions {
+  bool detect = true;   ///< run the window test and report kLost
+  bool recover = true;  ///< while wrong, ask the Reacquisition for another pose
+  /// A scan with fewer readings does not enter the window (it says nothing either way).
+  int min_readings = 10;
+  LostDetectionOptions lost;
+};
+
+/// \brief Lost detection and recovery around a tracker of either dimension (the pose traits'):
+/// each update runs the tracker, weighs the scan at its estimate (Reacquisition::weigh), feeds
+/// the window test (lost_detection.hpp) and, while the window is wrong, lets the Reacquisition
+/// look for another pose; one it finds restarts the tracker there (RecoveringLocalizer in 2D,
+/// RecoveringLocalizer3 in 3D).
+template <int Dim>
+class RecoveringLocalizerT : public TrackerT<Dim> {
+ public:
+  using Pose = typename PoseTraits<Dim>::Pose;
+  using Covariance = typename PoseTraits<Dim>::Covariance;
+  using Odometry = typename OdometryTraits<Dim>::Step;
+  using Observations = ObservationSet<Dim>;
+  using Result = LocalizationResultT<Dim>;
+
+  /// \throws ConfigError for a null tracker or reacquisition, or bad options.
+  RecoveringLocalizerT(std::unique_ptr<TrackerT<Dim>> tracker,
+                       std::unique_ptr<Reacquisition<Dim>> reacquisition,
+                       const LostWatchOptions& options);
+
+  void reset(const Pose& pose, const Covariance& covariance) override;
+  using TrackerT<Dim>::update;
+  [[nodiscard]] Result update(const Odometry& odometry, const Observations& observations) override;
+  [[nodiscard]] std::string name() const override { return tracker_->name(); }
+
+  /// \return candidates adopted (each ended a loss or a doubt).
+  [[nodiscard]] int recoveries() const noexcept { return recoveries_; }
+  [[nodiscard]] const LostDetector& detector() const noexcept { return detector_; }
+  /// \return the last scan's agreement at the reported pose.
+  [[nodiscard]] const ScanAgreement& agreement() const noexcept { return agreement_; }
+
+ protected:
+  [[nodiscard]] TrackerT<Dim>& tracker() noexcept { return *tracker_; }
+  [[nodiscard]] Reacquisition<Dim>& reacquisition() noexcept { return *reacquisition_; }
+  [[nodiscard]] const Reacquisition<Dim>& reacquisition() const noexcept { return *reacquisition_; }
+
+ private:
+  std::unique_ptr<TrackerT<Dim>> tracker_;
+  std::unique_ptr<Reacquisition<Dim>> reacquisition_;
+  LostWatchOptions options_;
+  LostDetector detector_;
+  ScanAgreement agreement_;
+  int lost_scans_ = 0;  ///< updates in a row reported lost
+  int recoveries_ = 0;
+};
+
+extern template class RecoveringLocalizerT<2>;
+extern template class RecoveringLocalizerT<3>;
 
 struct RecoveryOptions {
   /// Run the window test and report kLost (false: the tracker's results pass unchanged).
@@ -78,8 +197,11 @@ struct RecoveryOptions {
   void validate() const;
 };
 
-/// \brief A tracker with lost detection and recovery (see the file comment).
-class RecoveringLocalizer final : public Localizer2D {
+class GlobalReacquisition;
+
+/// \brief A 2D tracker with lost detection and recovery by global localization (see the file
+/// comment): RecoveringLocalizerT<2> with the branch and bound's Reacquisition.
+class RecoveringLocalizer final : public RecoveringLocalizerT<2> {
  public:
   /// \param tracker the localizer that tracks (owned).
   /// \param map, occupancy must outlive this; occupancy tells where the robot cannot be (any
@@ -91,72 +213,17 @@ class RecoveringLocalizer final : public Localizer2D {
                       const OccupancyGrid<2>& occupancy, const GlobalLocalizationOptions& global,
                       const RecoveryOptions& options = {}, const MapKnowledge& knowledge = {});
 
-  ~RecoveringLocalizer() override;
-  RecoveringLocalizer(const RecoveringLocalizer&) = delete;
-  RecoveringLocalizer& operator=(const RecoveringLocalizer&) = delete;
-
-  void reset(const Pose2& pose, const Eigen::Matrix3d& covariance) override;
-  using Localizer2D::update;
-  [[nodiscard]] LocalizationResult update(const OdometryStep& odometry,
-                                          const ScanPoints& observations) override;
-  [[nodiscard]] std::string name() const override { return tracker_->name(); }
-
-  /// \return candidates adopted (each ended a loss or a doubt).
-  [[nodiscard]] int recoveries() const noexcept { return recoveries_; }
   /// \return searches finished, and verifications in which two distinct candidates passed.
-  [[nodiscard]] int searches() const noexcept { return searches_; }
-  [[nodiscard]] int ambiguous() const noexcept { return ambiguous_; }
+  [[nodiscard]] int searches() const noexcept;
+  [[nodiscard]] int ambiguous() const noexcept;
   /// \return the candidates that passed together in the last ambiguous verification.
-  [[nodiscard]] const std::vector<Pose2>& ambiguous_poses() const noexcept {
-    return ambiguous_poses_;
-  }
-  [[nodiscard]] const LostDetector& detector() const noexcept { return detector_; }
-  /// \return the last scan's agreement at the reported pose.
-  [[nodiscard]] const ScanAgreement& agreement() const noexcept { return agreement_; }
+  [[nodiscard]] const std::vector<Pose2>& ambiguous_poses() const noexcept;
   /// \return whether a search is in progress, and how many candidates are being verified.
-  [[nodiscard]] bool searching() const noexcept { return search_.has_value() || worker_.valid(); }
-  [[nodiscard]] std::size_t candidates() const noexcept { return candidates_.size(); }
+  [[nodiscard]] bool searching() const noexcept;
+  [[nodiscard]] std::size_t candidates() const noexcept;
 
  private:
-  struct Candidate {
-    Pose2 pose = Pose2::Zero();
-    LocalizationResult last;   // its last solve
-    int scans = 0;             // scans it was weighed on
-    ScanAgreement own, track;  // summed over those scans: at its poses, at the track's
-  };
-  /// Solves the candidates on this scan and weighs them; drops the failed and the contradicted.
-  void verify(const OdometryStep& odometry, const ScanPoints& observations,
-              const ScanAgreement& track);
-  /// The best start of a window around `pose` (guess_search.hpp) for the optimizer.
-  [[nodiscard]] Pose2 local_start(const ScanPoints& observations, const Pose2& pose) const;
-  /// The agreement the window weighs: agreement_ (at the estimate) or, when that is in doubt,
-  /// at the pose the optimizer reaches from the estimate, if less contradicted.
-  [[nodiscard]] ScanAgreement near_agreement(const ScanPoints& observations, const Pose2& estimate);
-  /// The candidate to adopt, if exactly one distinct place passes (file comment).
-  [[nodiscard]] std::optional<std::size_t> choose();
-  void drop_search();
-  /// Starts `search` (in this thread's budget or on the worker, options_.search_thread).
-  void start_search(GlobalLocalizer::Search search);
-  /// Advances the search by this update's budget (or looks at the worker): the finished search,
-  /// if it finished.
-  [[nodiscard]] std::optional<GlobalLocalizer::Search> advance_search(LocalizationResult& r);
-
-  std::unique_ptr<Localizer2D> tracker_;
-  const VdtMap2* map_;
-  MapKnowledge knowledge_;
-  VdtSensorModel model_;  // the agreement at the tracker's estimate
-  GlobalLocalizer global_;
-  VdtOptimizer optimizer_;  // the candidates' solves
-  RecoveryOptions options_;
-  LostDetector detector_;
-  ScanAgreement agreement_;
-  std::optional<GlobalLocalizer::Search> search_;  // in the updates' budget
-  std::future<GlobalLocalizer::Search> worker_;    // or on the worker thread
-  std::shared_ptr<std::atomic<bool>> cancel_;      // tells the worker to stop
-  Pose2 since_search_ = Pose2::Zero();             // odometry since the search's scan
-  std::vector<Candidate> candidates_;
-  std::vector<Pose2> ambiguous_poses_;
-  int recoveries_ = 0, searches_ = 0, ambiguous_ = 0;
+  [[nodiscard]] const GlobalReacquisition& global() const noexcept;
 };
 
 }  // namespace vdtnav

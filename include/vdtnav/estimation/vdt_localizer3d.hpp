@@ -9,14 +9,18 @@
 ///    left perturbation (dt, dtheta): F = [I, -[R dt_odo]x; 0, I] and Q the odometry noise
 ///    (per metre and per radian of the increment, in the robot frame), with the IMU's variance on
 ///    roll and pitch when it gives them.
-/// 2. Update: the 6-DOF or 4-DOF solve (VdtOptimizer3) from X-; the fraction of the scan the map
-///    explains there (multi_start.hpp's explained_fraction) says whether it is right: converged is
-///    not correct. Below accept_fraction, multi-start from X- (axis starts and the attitude grid;
-///    while lost, only on lost scans 1, 2, 4, 8 and then every 16th: each costs ~0.5-1 s);
-///    still below: the scan is refused (status kRefused) and the prediction kept.
-/// 3. Lost detection: the window test of lost_detection.hpp reports kLost, every reading the map
-///    does not explain counting as a contradiction (no unknown space in a 3D map here): lost when
-///    a window explains half its readings or less, found again from 70 %.
+/// 2. Update: the 6-DOF or 4-DOF solve (VdtOptimizer3) from X- (with optimizer.odometry_prior,
+///    X- and P- as its prior, the maximum a posteriori solve 2D vdt-opt runs); the fraction of the
+///    scan the map explains there (multi_start.hpp's explained_fraction) says whether it is right:
+///    converged is not correct. Below accept_fraction, multi-start from X- (the starts along the
+///    axes; the attitude grid too when re-acquiring, set_starts()); still below: the scan is
+///    refused (status kRefused) and the prediction kept.
+/// 3. Lost detection and recovery wrap this tracker as they wrap a 2D one
+///    (recovering_localizer3d.hpp, RecoveringLocalizerT<3>): the window test of lost_detection.hpp
+///    reports kLost, every reading the map does not explain counting as a contradiction (no
+///    unknown space in a 3D map here): lost when a window explains half its readings or less,
+///    found again from 70 %; while lost, the attitude grid re-acquires on lost scans 1, 2, 4, 8
+///    and then every 16th (each costs ~0.5-1 s). make_vdt_localizer3() builds the two together.
 ///
 /// 4-DOF mode: roll and pitch are held at the IMU's (or, without one, at the prediction's: from
 /// the start pose on), so their error goes into x, y, z and yaw through the scan. With a σ for the
@@ -78,6 +82,7 @@ struct VdtLocalizer3Options {
     o.attitude_grid = 2;
     return o;
   }();
+  /// Lost detection (recovering_localizer3d.hpp; the tracker alone does not use it).
   LostDetectionOptions lost;
 
   /// \return the odometry noise (1 sigma) of an increment `delta` over `dt` seconds: translation
@@ -95,7 +100,12 @@ struct VdtLocalizer3Options {
                                              std::mt19937& rng) const;
 };
 
-/// \brief Algorithm 1 in SE(3) as a Localizer3D (names "vdt-opt-6dof", "vdt-opt-4dof").
+/// \brief The multi-start a 3D update runs when its solve is explained below accept_fraction:
+/// none, the starts along the axes (tracking), or those and the attitude grid (re-acquiring).
+enum class StartSet { kNone, kAxes, kAttitudeGrid };
+
+/// \brief Algorithm 1 in SE(3) as a Localizer3D (names "vdt-opt-6dof", "vdt-opt-4dof"): the
+/// tracker, without lost detection (make_vdt_localizer3() adds it).
 class VdtOptimizationLocalizer3 final : public Localizer3D {
  public:
   /// \throws ConfigError for invalid options. The map must outlive the localizer.
@@ -108,6 +118,9 @@ class VdtOptimizationLocalizer3 final : public Localizer3D {
                                            const ObservationSet3& observations) override;
   [[nodiscard]] std::string name() const override;
   [[nodiscard]] const VdtOptimizer3& optimizer() const noexcept { return optimizer_; }
+  [[nodiscard]] const VdtLocalizer3Options& options() const noexcept { return options_; }
+  /// \brief The multi-start of the following updates (kAxes after construction and reset()).
+  void set_starts(StartSet starts) noexcept { starts_ = starts; }
 
   /// \brief The 4-DOF covariance made whole (see the file comment): `r`'s (the 4-DOF solve's,
   /// zero in the held rows) plus what a held roll and pitch of standard deviation `sigma` do to
@@ -120,8 +133,7 @@ class VdtOptimizationLocalizer3 final : public Localizer3D {
   VdtLocalizer3Options options_;
   VdtOptimizer3 optimizer_;
   VdtOptimizer3 full_;  ///< the 6-DOF twin (shared pyramid): its sensor model gives the Hessian
-  LostDetector lost_;
-  int lost_scans_ = 0;  ///< consecutive scans reported lost (multi-start on 1, 2, 4, 8, then 16s)
+  StartSet starts_ = StartSet::kAxes;
   Pose3 pose_ = Pose3::Identity();
   Matrix6d covariance_ = Matrix6d::Zero();
 };

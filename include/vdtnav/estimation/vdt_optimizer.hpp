@@ -85,11 +85,12 @@ struct VdtOptimizerOptions {
   /// 3D only (ignored in 2D): the 4-DOF mode, x, y, z and yaw estimated, roll and pitch held at
   /// those of the guess (from an IMU), as DLL does.
   bool four_dof = false;
-  /// 2D localizer only: fuse the prediction (the last estimate composed with the odometry step,
-  /// with its propagated covariance) as a prior term of the cost, a maximum a posteriori solve,
-  /// and report the posterior covariance. Directions the scan does not constrain (one straight
-  /// wall, one marking line) then stay at the prediction instead of sliding wherever the
-  /// iterations stop. Off: each scan on its own (maximum likelihood, the thesis's vdt-opt).
+  /// The localizers (2D vdt-opt and the sequential 3D one): fuse the prediction (the last
+  /// estimate composed with the odometry step, with its propagated covariance) as a prior term of
+  /// the cost, a maximum a posteriori solve, and report the posterior covariance. Directions the
+  /// scan does not constrain (one straight wall, one marking line) then stay at the prediction
+  /// instead of sliding wherever the iterations stop. Off: each scan on its own (maximum
+  /// likelihood, the thesis's vdt-opt).
   bool odometry_prior = false;
   /// 2D localizer only: when the solution from the odometry guess explains the scan poorly, also
   /// solve from the best pose of a window search around the guess and keep the better; refuse a
@@ -140,7 +141,9 @@ class VdtOptimizerT {
   /// \brief As solve(observations, guess) with a prior term in every solve (a maximum a
   /// posteriori estimate). The solvers minimise the plain VCD, so the prior joins it as
   /// s^2/2 e^T I e, s^2 the a priori variance of a disparity component (map floor + reading
-  /// noise); the covariance is the posterior's, A^-1 (M + s^4 I) A^-1 with A = H + s^2 I. 2D only.
+  /// noise); the covariance is the posterior's, A^-1 (M + s^4 I) A^-1 with A = H + s^2 I. The
+  /// same prior in 2D and 3D (e = X (-) mean in the pose traits' perturbation); in the 4-DOF mode
+  /// its held rows and columns do nothing (the step keeps them).
   [[nodiscard]] Result solve(const Observations& observations, const Pose& guess,
                              const PosePrior<Dim>& prior) const;
 
