@@ -1,5 +1,7 @@
 #include "vdtnav/estimation/localizer_factory.hpp"
 
+#include <algorithm>
+
 #include "vdtnav/core/error.hpp"
 #include "vdtnav/map/surface_roughness.hpp"
 
@@ -29,15 +31,41 @@ LocalizerSettings log_settings() {
   return s;
 }
 
-LocalizerSettings cloud_settings() {
-  LocalizerSettings s;
-  VdtOptimizerOptions& o = s.vdt_opt;
+namespace {
+
+/// The optimizer for maps drawn from real scans or clouds (cloud_settings()).
+VdtOptimizerOptions cloud_optimizer() {
+  VdtOptimizerOptions o;
   o.loss = RobustLoss::kCauchy;  // what one scan's map lacks or misplaces: cars, vegetation
   o.loss_scale = 0.05;
   o.max_iterations = 50;  // the Cauchy IRLS passes need more than the 25 of an exact map
   o.variance_factor = true;
   o.sensor.map_correlation_length = 1.0;
   o.sensor.map_pose_sigma = -1.0;
+  return o;
+}
+
+}  // namespace
+
+VdtLocalizer3Options LocalizerSettings::localize3d_defaults() {
+  VdtLocalizer3Options o;
+  // What `vdtnav localize3d` built before the settings file had a localize3d section: the
+  // optimizer is cloud_settings()'s (so not VdtLocalizer3Options's coarse_threshold and
+  // function_tolerance), --min-explained 0.3, explained at 0.1 m (the multi-start's distance).
+  o.optimizer = cloud_optimizer();
+  o.accept_fraction = 0.3;
+  o.explained_distance = o.multi_start.explained_distance;
+  o.multi_start.enabled = false;    // --multi-start
+  o.multi_start.attitude_grid = 2;  // from an identity guess 10-15 degrees off (the car pair)
+  // Lost when a window explains no more than accept_fraction (every unexplained reading counts
+  // against the pose in 3D): contradiction 1 - accept_fraction, 0.5 at least.
+  o.lost.lost_contradiction = std::max(o.lost.lost_contradiction, 1.0 - o.accept_fraction);
+  return o;
+}
+
+LocalizerSettings cloud_settings() {
+  LocalizerSettings s;
+  s.vdt_opt = cloud_optimizer();
   return s;
 }
 

@@ -389,6 +389,63 @@ TEST(Cli3d, FourDofHoldsRollAndPitchAtTheGuess) {
             2);
 }
 
+TEST(Cli3d, TheSettingsFilesLocalize3dSectionIsWhatTheRunUses) {
+  const Fixture& f = fixture();
+  const fs::path d = f.dir / "settings3d";
+  fs::create_directories(d);
+  // --print-config needs no map: the localize3d section only, which reads back to itself.
+  ASSERT_EQ(run_cli("localize3d --print-config", d / "printed.yaml"), 0)
+      << read_all(d / "printed.yaml");
+  const std::string printed = read_all(d / "printed.yaml");
+  EXPECT_TRUE(test::contains(printed, "\nlocalize3d:")) << printed;
+  EXPECT_FALSE(test::contains(printed, "\nvdt-opt:")) << printed;
+  EXPECT_TRUE(test::contains(printed, "held_attitude_sigma: .nan")) << printed;
+  ASSERT_EQ(run_cli("localize3d --config " + (d / "printed.yaml").string() + " --print-config",
+                    d / "again.yaml"),
+            0);
+  EXPECT_EQ(read_all(d / "again.yaml"), printed);
+  // A key of the file changes the settings; a flag given overrides the file's key.
+  { std::ofstream(d / "mine.yaml") << "localize3d:\n  accept_fraction: 0.6\n"; }
+  ASSERT_EQ(run_cli("localize3d --config " + (d / "mine.yaml").string() + " --print-config",
+                    d / "mine.txt"),
+            0);
+  EXPECT_TRUE(test::contains(read_all(d / "mine.txt"), "\n  accept_fraction: 0.6 "));
+  ASSERT_EQ(run_cli("localize3d --config " + (d / "mine.yaml").string() +
+                        " --min-explained 0.2 --print-config",
+                    d / "flag.txt"),
+            0);
+  EXPECT_TRUE(test::contains(read_all(d / "flag.txt"), "\n  accept_fraction: 0.2 "));
+  EXPECT_TRUE(test::contains(read_all(d / "flag.txt"), "lost_contradiction: 0.8 "));
+  // The run uses the file: --dof 4 with the file's held_attitude_sigma gives roll and pitch its
+  // variance (without it they are NaN, FourDofHoldsRollAndPitchAtTheGuess); --attitude-sigma
+  // given overrides it.
+  { std::ofstream(d / "held.yaml") << "localize3d:\n  held_attitude_sigma: 0.01\n"; }
+  const std::string run = "localize3d --dof 4 --map " + (f.dir / "room.csv").string() + " --scan " +
+                          (f.dir / "scans" / "100.0.pcd").string() +
+                          " --init 3.2,3.9,1.2,0.02,-0.03,0.38 --config " +
+                          (d / "held.yaml").string() + " --out ";
+  ASSERT_EQ(run_cli(run + (d / "held.out.yaml").string(), d / "held.log"), 0)
+      << read_all(d / "held.log");
+  const YamlResult held = read_yaml(d / "held.out.yaml");
+  EXPECT_NEAR(held.covariance(3, 3), 1e-4, 1e-12);
+  EXPECT_NEAR(held.covariance(4, 4), 1e-4, 1e-12);
+  ASSERT_EQ(
+      run_cli(run + (d / "flag.out.yaml").string() + " --attitude-sigma 0.02", d / "flag.log"), 0)
+      << read_all(d / "flag.log");
+  EXPECT_NEAR(read_yaml(d / "flag.out.yaml").covariance(3, 3), 4e-4, 1e-12);
+  // A typo in the section: the file, the line and the key's path, before any map is built.
+  { std::ofstream(d / "typo.yaml") << "localize3d:\n  lost:\n    windw: 3\n"; }
+  EXPECT_EQ(run_cli("localize3d --map " + (f.dir / "room.csv").string() + " --scan " +
+                        (f.dir / "scans" / "100.0.pcd").string() + " --config " +
+                        (d / "typo.yaml").string(),
+                    d / "typo.txt"),
+            1);
+  EXPECT_TRUE(
+      test::contains(read_all(d / "typo.txt"), "typo.yaml:3: localize3d.lost.windw: unknown key"))
+      << read_all(d / "typo.txt");
+  EXPECT_FALSE(test::contains(read_all(d / "typo.txt"), "[localize3d] map"));
+}
+
 TEST(Cli3d, BadInputsSayWhatIsWrongAndWriteNothing) {
   const Fixture& f = fixture();
   const std::string map = (f.dir / "room.csv").string();

@@ -55,6 +55,7 @@ struct Localize3dArgs {
   /// at 34-54 % (libpointmatcher's three consecutive outdoor scans, both ways, at 0.1 m), wrong
   /// minima from an identity guess 3-26 %.
   double min_explained = 0.3;
+  bool min_explained_given = false;  // else the settings' localize3d.accept_fraction
   bool multi_start = false;
   bool quiet = false;
   bool print_config = false;
@@ -120,7 +121,7 @@ double stamp_of(const std::string& path, std::size_t index) {
   return static_cast<double>(index);
 }
 
-std::string yaml_report(const ScanReport& r, int dof) {
+std::string yaml_report(const ScanReport& r, int dof, double explained_distance) {
   std::ostringstream y;
   y.precision(9);
   const Pose3& p = r.result.pose;
@@ -130,8 +131,8 @@ std::string yaml_report(const ScanReport& r, int dof) {
   y << "scan: \"" << r.scan << "\"\n";
   y << "status: " << to_string(r.result.status) << "\n";
   y << "dof: " << dof << "\n";
-  y << "explained: " << r.explained
-    << "  # fraction of the readings within 0.1 m of the map at the pose\n";
+  y << "explained: " << r.explained << "  # fraction of the readings within " << explained_distance
+    << " m of the map at the pose\n";
   y << "pose:  # 4x4, row by row\n";
   for (int i = 0; i < 4; ++i) {
     y << "  - [";
@@ -220,15 +221,40 @@ void run_localize3d(const Localize3dArgs& a) {
     throw UsageError("localize3d: --attitude-sigma is for --dof 4 (roll and pitch held)");
   const std::set<LocalizationStatus> accepted_statuses =
       parse_statuses(a.accept_status, "--accept-status");
+  // The settings: localize3d_defaults() (what this command always ran with), the keys of the
+  // --config file's localize3d: section, then the flags given, which override the file.
   LocalizerSettings settings = cloud_settings();
-  if (!a.config.empty()) settings = load_localizer_config(a.config, settings);
+  if (!a.config.empty()) {
+    settings = load_localizer_config(a.config, settings);
+    LocalizerSettings other = cloud_settings();
+    other.vdt_opt = settings.vdt_opt;
+    if (localizer_settings_yaml(other, "vdt-opt") !=
+        localizer_settings_yaml(cloud_settings(), "vdt-opt")) {
+      std::fprintf(stderr,
+                   "[localize3d] note: %s sets vdt-opt (or sensor:) keys, which are `vdtnav "
+                   "localize`'s; localize3d reads its own section, localize3d: (its optimizer: "
+                   "has the vdt-opt keys)\n",
+                   a.config.c_str());
+    }
+  }
+  VdtLocalizer3Options& lo = settings.localize3d;
+  if (a.min_explained_given) {
+    lo.accept_fraction = a.min_explained;
+    // Lost when a window explains no more than --min-explained (every unexplained reading counts
+    // against the pose in 3D): contradiction 1 - min_explained, 0.5 at least.
+    lo.lost.lost_contradiction =
+        std::max(LostDetectionOptions{}.lost_contradiction, 1.0 - a.min_explained);
+  }
+  if (a.multi_start) lo.multi_start.enabled = true;
+  if (!std::isnan(a.attitude_sigma)) lo.held_attitude_sigma = a.attitude_sigma;
+  lo.optimizer.four_dof = a.dof == 4;
   if (a.print_config) {
-    std::fputs(localizer_settings_yaml(settings, "vdt-opt").c_str(), stdout);
+    std::fputs(localizer_settings_yaml(settings, "localize3d").c_str(), stdout);
     return;
   }
   if (a.map.empty()) throw UsageError("localize3d: --map is required");
-  VdtOptimizerOptions opt = settings.vdt_opt;
-  opt.four_dof = a.dof == 4;
+  const VdtOptimizerOptions& opt = lo.optimizer;
+  const MultiStartOptions& ms = lo.multi_start;
   Pose3 init = Pose3::Identity();
   if (!a.init.empty()) init = parse_pose3(a.init, "--init");
   if (!a.init_matrix.empty()) init = read_pose_matrix(a.init_matrix);
@@ -258,22 +284,10 @@ void run_localize3d(const Localize3dArgs& a) {
   co.range_min = a.min_range;
   co.range_max = a.max_range;
   co.voxel = a.voxel >= 0.0 ? a.voxel : field.resolution();
-  MultiStartOptions ms;
-  ms.enabled = a.multi_start;
-  ms.attitude_grid = 2;  // from an identity guess 10-15 degrees off (libpointmatcher's car pair)
 
   // The scans after the first go to the sequential 3D localizer (vdt_localizer3d.hpp): its
   // prediction is the last pose moved by the last motion (constant velocity, given as the
   // odometry), its acceptance and lost detection use the same explained fraction.
-  VdtLocalizer3Options lo;
-  lo.optimizer = opt;
-  lo.accept_fraction = a.min_explained;
-  lo.explained_distance = ms.explained_distance;
-  lo.multi_start = ms;
-  // Lost when a window explains no more than --min-explained (every unexplained reading counts
-  // against the pose in 3D): contradiction 1 - min_explained, 0.5 at least.
-  lo.lost.lost_contradiction = std::max(lo.lost.lost_contradiction, 1.0 - a.min_explained);
-  lo.held_attitude_sigma = a.attitude_sigma;    // 4-DOF, no IMU: NaN = roll, pitch not estimated
   RecoveringLocalizer3 tracker(optimizer, lo);  // lost detection and recovery around it
   std::vector<StampedPose3> trajectory;         // the poses of the accepted statuses
   std::vector<std::string> table = {status_table_header()};
@@ -293,16 +307,17 @@ void run_localize3d(const Localize3dArgs& a) {
     r.readings = obs.size();
     if (accepted == 0) {  // from --init (or the prediction while nothing was accepted)
       r.result =
-          a.multi_start ? solve_multi_start(optimizer, obs, last, ms) : optimizer.solve(obs, last);
+          ms.enabled ? solve_multi_start(optimizer, obs, last, ms) : optimizer.solve(obs, last);
       r.explained =
-          explained_fraction(optimizer.sensor_model(), obs, r.result.pose, ms.explained_distance);
-      if (r.result.status == LocalizationStatus::kConverged && r.explained < a.min_explained)
+          explained_fraction(optimizer.sensor_model(), obs, r.result.pose, lo.explained_distance);
+      if (r.result.status == LocalizationStatus::kConverged && r.explained < lo.accept_fraction)
         r.result.status = LocalizationStatus::kRefused;  // converged, not on this map's surfaces
       r.result.explained = r.explained;
       if (r.result.status == LocalizationStatus::kConverged)
         tracker.reset(r.result.pose, r.result.covariance);
       if (a.dof == 4 && r.result.has_covariance) {  // the held roll and pitch (the file comment)
-        r.result.covariance = tracker.tracker().with_held_attitude(obs, r.result, a.attitude_sigma);
+        r.result.covariance =
+            tracker.tracker().with_held_attitude(obs, r.result, lo.held_attitude_sigma);
       }
     } else {
       OdometryStep3 motion;  // constant velocity unless the input has odometry
@@ -332,7 +347,7 @@ void run_localize3d(const Localize3dArgs& a) {
         rpy.z() * 180.0 / M_PI, std::sqrt(r.result.covariance.topLeftCorner<3, 3>().trace()),
         std::sqrt(r.result.covariance.bottomRightCorner<3, 3>().trace()) * 180.0 / M_PI, r.readings,
         r.solve_ms);
-    if (r.result.status == LocalizationStatus::kRefused && !a.multi_start) {
+    if (r.result.status == LocalizationStatus::kRefused && !ms.enabled) {
       std::fprintf(stderr,
                    "[localize3d] %s: the map explains only %.0f %% of the scan at the estimate: "
                    "a wrong minimum or a poor guess; try --multi-start or a better --init\n",
@@ -342,7 +357,7 @@ void run_localize3d(const Localize3dArgs& a) {
       const std::string yaml =
           sequence ? (fs::path(out_dir) / (fs::path(name).stem().string() + ".yaml")).string()
                    : staged.file(a.out);
-      write_text(yaml, yaml_report(r, a.dof));
+      write_text(yaml, yaml_report(r, a.dof, lo.explained_distance));
     }
     if (a.all_poses || accepted_statuses.count(r.result.status) > 0) {
       trajectory.push_back({t, r.result.pose});
@@ -508,16 +523,18 @@ void add_localize3d_command(CLI::App& app) {
                   "Range noise standard deviation of the sensor, metres")
       ->capture_default_str();
   cmd->add_option("--config", args->config,
-                  "Settings YAML over the 3D defaults (cloud_settings(); keys as `vdtnav "
-                  "localize --print-config` lists them); localize3d reads its vdt-opt section")
+                  "Settings YAML over the 3D defaults: its localize3d section (keys in "
+                  "--print-config and docs/settings.md); the flags given override it")
       ->check(input_file("--config"));
   cmd->add_option("--out", args->out,
                   "One scan: a YAML file. A sequence: a folder (one YAML per scan, "
                   "trajectory.tum, status.csv: t,status,explained then the 6x6 covariance's "
                   "upper triangle, one row per scan)");
-  cmd->add_option("--min-explained", args->min_explained,
-                  "A converged pose explaining less of the scan is reported as refused")
-      ->capture_default_str();
+  CLI::Option* min_explained =
+      cmd->add_option("--min-explained", args->min_explained,
+                      "A converged pose explaining less of the scan is reported as refused "
+                      "(localize3d.accept_fraction; lost at 1 - this, 0.5 at least)")
+          ->capture_default_str();
   cmd->add_flag("--multi-start", args->multi_start,
                 "Solve again from starts around the guess when the first solution leaves "
                 "readings unexplained (a poor guess)");
@@ -529,8 +546,12 @@ void add_localize3d_command(CLI::App& app) {
   cmd->add_flag("--strict", args->strict, "Exit 3 when a scan of the sequence is lost");
   cmd->add_flag("--quiet", args->quiet, "Less on stderr");
   cmd->add_flag("--print-config", args->print_config,
-                "Print the settings in use (defaults + --config) as a documented YAML and exit");
-  cmd->callback([args] { run_localize3d(*args); });
+                "Print the settings in use (defaults + --config + the flags given), the "
+                "localize3d section, as a documented YAML and exit");
+  cmd->callback([args, min_explained] {
+    args->min_explained_given = min_explained->count() > 0;
+    run_localize3d(*args);
+  });
 }
 
 }  // namespace vdtnav::tools

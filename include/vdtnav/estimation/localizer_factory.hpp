@@ -15,6 +15,7 @@
 #include "vdtnav/estimation/recovering_localizer.hpp"
 #include "vdtnav/estimation/udt_localizers.hpp"
 #include "vdtnav/estimation/vdt_ekf.hpp"
+#include "vdtnav/estimation/vdt_localizer3d.hpp"
 #include "vdtnav/estimation/vdt_optimizer.hpp"
 
 namespace vdtnav {
@@ -34,12 +35,21 @@ struct LocalizerSettings {
   /// Lost detection and re-acquisition (kidnapped robot) around vdt-opt and vdt-ekf; the
   /// acquisitions use `global` (refined with vdt_opt).
   RecoveryOptions recovery;
+  /// The sequential 3D localizer of `vdtnav localize3d` (settings section localize3d:), by
+  /// default what that command ran with before it had keys of its own: localize3d_defaults().
+  VdtLocalizer3Options localize3d = localize3d_defaults();
 
   [[nodiscard]] static ActiveBeamLocalizerOptions passive_beam() {
     ActiveBeamLocalizerOptions o;
     o.strategy = BeamStrategy::kPassiveFixed;
     return o;
   }
+  /// \brief `vdtnav localize3d`'s defaults: the optimizer of cloud_settings() (Cauchy loss, 50
+  /// iterations, map errors shared per 1 m cube, the variance factor), a solution refused when it
+  /// explains less than 30 % of the scan (--min-explained), lost when a window explains no more
+  /// (lost_contradiction 1 - 0.3), multi-start off (--multi-start: with the attitude grid, n = 2),
+  /// the held attitude not estimated (NaN, --attitude-sigma).
+  [[nodiscard]] static VdtLocalizer3Options localize3d_defaults();
 };
 
 /// \brief Settings for real logs localized on a map built from scans (the `vdtnav localize`

@@ -1,46 +1,47 @@
-#include "vdtnav/estimation/localizer_config.hpp"
+#pragma once
+// The keys of the settings file, once (private to the estimation component): each visit() names
+// every key of one options struct with its unit and meaning, and the reader
+// (localizer_config_reader.cpp) and the writer (localizer_config_writer.cpp) walk the same list,
+// so the file and its documentation cannot disagree. A visitor V has number, number_or_nan,
+// integer, size, uint32, flag, choice, section (a nested mapping) and sensor (a
+// VdtSensorModelOptions: the writer prints only the keys that differ from the shared sensor:
+// block). The 3D localizer's section is localizer_config_keys3d.hpp.
 
-#include <yaml-cpp/yaml.h>
-
-#include <cmath>
 #include <cstdint>
-#include <fstream>
 #include <initializer_list>
-#include <iomanip>
-#include <limits>
-#include <set>
-#include <sstream>
+#include <string>
 #include <utility>
+#include <vector>
 
-#include "vdtnav/core/error.hpp"
+#include "vdtnav/estimation/localizer_factory.hpp"
 
-namespace vdtnav {
-namespace {
+namespace vdtnav::config_keys {
 
 template <typename E>
 using Names = std::initializer_list<std::pair<const char*, E>>;
 
-const Names<GateMode> kGateModes{
+inline const Names<GateMode> kGateModes{
     {"components", GateMode::kComponents}, {"norm", GateMode::kNorm}, {"none", GateMode::kNone}};
-const Names<ResidualMode> kResidualModes{{"interpolated", ResidualMode::kInterpolated},
-                                         {"nearest_point", ResidualMode::kNearestPoint}};
-const Names<DisparityCovariance> kDisparityCovariances{
+inline const Names<ResidualMode> kResidualModes{{"interpolated", ResidualMode::kInterpolated},
+                                                {"nearest_point", ResidualMode::kNearestPoint}};
+inline const Names<DisparityCovariance> kDisparityCovariances{
     {"exact_rank_one", DisparityCovariance::kExactRankOne},
     {"diagonal", DisparityCovariance::kDiagonal}};
-const Names<ScanSolver> kScanSolvers{{"ceres", ScanSolver::kCeres}, {"dense", ScanSolver::kDense}};
-const Names<TrustRegion> kTrustRegions{{"levenberg_marquardt", TrustRegion::kLevenbergMarquardt},
-                                       {"dogleg", TrustRegion::kDogleg}};
-const Names<RobustLoss> kLosses{
+inline const Names<ScanSolver> kScanSolvers{{"ceres", ScanSolver::kCeres},
+                                            {"dense", ScanSolver::kDense}};
+inline const Names<TrustRegion> kTrustRegions{
+    {"levenberg_marquardt", TrustRegion::kLevenbergMarquardt}, {"dogleg", TrustRegion::kDogleg}};
+inline const Names<RobustLoss> kLosses{
     {"none", RobustLoss::kNone}, {"huber", RobustLoss::kHuber}, {"cauchy", RobustLoss::kCauchy}};
-const Names<CovarianceMethod> kCovarianceMethods{
+inline const Names<CovarianceMethod> kCovarianceMethods{
     {"implicit_function", CovarianceMethod::kImplicitFunction},
     {"gauss_newton", CovarianceMethod::kGaussNewton}};
-const Names<BeamStrategy> kBeamStrategies{{"active-trace", BeamStrategy::kActiveTrace},
-                                          {"active-det", BeamStrategy::kActiveDet},
-                                          {"active-fisher", BeamStrategy::kActiveFisher},
-                                          {"passive-fixed", BeamStrategy::kPassiveFixed},
-                                          {"passive-rotate", BeamStrategy::kPassiveRotate}};
-const Names<MotionModelKind> kMotionModels{
+inline const Names<BeamStrategy> kBeamStrategies{{"active-trace", BeamStrategy::kActiveTrace},
+                                                 {"active-det", BeamStrategy::kActiveDet},
+                                                 {"active-fisher", BeamStrategy::kActiveFisher},
+                                                 {"passive-fixed", BeamStrategy::kPassiveFixed},
+                                                 {"passive-rotate", BeamStrategy::kPassiveRotate}};
+inline const Names<MotionModelKind> kMotionModels{
     {"velocity", MotionModelKind::kVelocity},
     {"odometry_increment", MotionModelKind::kOdometryIncrement}};
 
@@ -121,7 +122,7 @@ void visit(V& v, LocalScanMapOptions& o) {
 
 template <typename V>
 void visit(V& v, VdtOptimizerOptions& o) {
-  v.section("sensor", "the VDT sensor model", [&](V& s) { visit(s, o.sensor); });
+  v.sensor("sensor", "the VDT sensor model", o.sensor);
   v.choice("solver", o.solver, kScanSolvers,
            "dense = Levenberg-Marquardt on the fixed-size normal equations (Ceres's steps, "
            "faster), ceres = Ceres Solver");
@@ -134,13 +135,15 @@ void visit(V& v, VdtOptimizerOptions& o) {
   v.choice("covariance_method", o.covariance, kCovarianceMethods,
            "implicit_function = (3.4) with the full Hessian, gauss_newton = sandwich");
   v.integer("max_iterations", o.max_iterations, "count", "solver iterations per solve");
+  v.number("function_tolerance", o.function_tolerance, "fraction",
+           "a solve stops when a step changes the cost by less than this fraction of it");
   v.integer("gate_rounds", o.gate_rounds, "count",
             "re-gate at the solution and solve again while the inliers change");
   v.integer("min_inliers", o.min_inliers, "count", "fewer usable readings: too few observations");
   v.integer("pyramid_levels", o.pyramid_levels, "count",
-            "coarse-to-fine levels for poor guesses; < 0: 2 in 2D");
+            "coarse-to-fine levels for poor guesses; < 0: 2 in 2D, 3 in 3D");
   v.number("coarse_threshold", o.coarse_threshold, "m",
-           "median disparity above which the coarse levels run; < 0: 0.1 m in 2D");
+           "median disparity above which the coarse levels run; < 0: 0.1 m in 2D, 0 in 3D");
   v.flag("variance_factor", o.variance_factor,
          "scale the covariance by the a posteriori variance factor when > 1");
   v.section("search", "window search and acceptance", [&](V& s) { visit(s, o.search); });
@@ -149,7 +152,7 @@ void visit(V& v, VdtOptimizerOptions& o) {
 
 template <typename V>
 void visit(V& v, VdtEkfOptions& o) {
-  v.section("sensor", "the VDT sensor model", [&](V& s) { visit(s, o.sensor); });
+  v.sensor("sensor", "the VDT sensor model", o.sensor);
   v.choice("motion", o.motion, kMotionModels,
            "prediction: velocity (3.7)-(3.10) or odometry_increment");
   v.section("noise", "motion noise of the prediction", [&](V& s) { visit(s, o.noise); });
@@ -260,6 +263,28 @@ void visit(V& v, ScanAgreementOptions& o) {
 }
 
 template <typename V>
+void visit(V& v, LostDetectionOptions& o) {
+  v.integer("window", o.window, "scans", "W, scans whose agreement is pooled");
+  v.number("lost_contradiction", o.lost_contradiction, "fraction",
+           "lost when the map contradicts this share of the window's judged readings (through a "
+           "wall, or ending in known free space)");
+  v.number("found_contradiction", o.found_contradiction, "fraction",
+           "found again when the window's contradiction falls to this");
+  v.number("doubt_contradiction", o.doubt_contradiction, "fraction",
+           "in doubt from this: search for a clearly better pose, not lost");
+  v.number("doubt_rise", o.doubt_rise, "fraction",
+           "also in doubt when the window is contradicted this much more than the track's "
+           "baseline...");
+  v.number("sigmas", o.sigmas, "std. dev.",
+           "... or this many standard deviations of the track's windows, if more");
+  v.integer("baseline_scans", o.baseline_scans, "windows",
+            "the baseline's exponential mean spans this many windows");
+  v.number("min_judged", o.min_judged, "fraction",
+           "the window decides only when the map judges this share of its readings (the rest "
+           "ends where the map knows nothing)");
+}
+
+template <typename V>
 void visit(V& v, RecoveryOptions& o) {
   v.flag("detect", o.detect,
          "test a window of scans (vdt-opt, vdt-ekf) and report status lost when the map "
@@ -267,26 +292,9 @@ void visit(V& v, RecoveryOptions& o) {
   v.flag("recover", o.recover,
          "while lost or in doubt, search for the pose by global localization (section global:) "
          "and adopt a clearly better one; --recover / --no-recover");
-  v.integer("window", o.lost.window, "scans", "W, scans whose agreement is pooled");
+  visit(v, o.lost);  // the window test's keys, those of localize3d's lost: section
   v.integer("min_readings", o.min_readings, "count",
             "scans with fewer readings do not enter the window (they say nothing either way)");
-  v.number("lost_contradiction", o.lost.lost_contradiction, "fraction",
-           "lost when the map contradicts this share of the window's judged readings (through a "
-           "wall, or ending in known free space)");
-  v.number("found_contradiction", o.lost.found_contradiction, "fraction",
-           "found again when the window's contradiction falls to this");
-  v.number("doubt_contradiction", o.lost.doubt_contradiction, "fraction",
-           "in doubt from this: search for a clearly better pose, not lost");
-  v.number("doubt_rise", o.lost.doubt_rise, "fraction",
-           "also in doubt when the window is contradicted this much more than the track's "
-           "baseline...");
-  v.number("sigmas", o.lost.sigmas, "std. dev.",
-           "... or this many standard deviations of the track's windows, if more");
-  v.integer("baseline_scans", o.lost.baseline_scans, "windows",
-            "the baseline's exponential mean spans this many windows");
-  v.number("min_judged", o.lost.min_judged, "fraction",
-           "the window decides only when the map judges this share of its readings (the rest "
-           "ends where the map knows nothing)");
   v.integer("search_boxes", o.search_boxes, "boxes per update",
             "the anytime global search's budget in each update");
   v.flag("search_thread", o.search_thread,
@@ -305,279 +313,4 @@ void visit(V& v, RecoveryOptions& o) {
             [&](V& s) { visit(s, o.agreement); });
 }
 
-template <typename V>
-void visit_section(V& v, const std::string& section, LocalizerSettings& s) {
-  if (section == "global") visit(v, s.global);
-  if (section == "recovery") visit(v, s.recovery);
-  if (section == "active-ekf") visit(v, s.active_ekf);
-  if (section == "passive-ekf") visit(v, s.passive_ekf);
-  if (section == "vdt-opt") visit(v, s.vdt_opt);
-  if (section == "vdt-ekf") visit(v, s.vdt_ekf);
-  if (section == "udt") visit(v, s.udt);
-  if (section == "pf") visit(v, s.pf);
-}
-
-const char* section_doc(const std::string& section) {
-  if (section == "vdt-opt") return "optimization localizer on the VDT (thesis 3.2)";
-  if (section == "vdt-ekf") return "EKF on the VDT (thesis 3.3)";
-  if (section == "udt") return "UDT baselines udt-opt and udt-ekf (chamfer matching)";
-  if (section == "active-ekf") return "one reading per scan, the beam pointed by (4.1) (ch. 4)";
-  if (section == "passive-ekf") return "one reading per scan, the beam not pointed (ch. 4)";
-  if (section == "recovery")
-    return "lost detection and kidnapped-robot recovery around vdt-opt and vdt-ekf";
-  if (section == "global")
-    return "global localization from one scan, --init global (branch and bound; refines with "
-           "vdt-opt's settings)";
-  return "particle filter (AMCL's likelihood field)";
-}
-
-const std::vector<std::string>& sections() {
-  static const std::vector<std::string> kSections{
-      "vdt-opt", "vdt-ekf", "udt", "pf", "active-ekf", "passive-ekf", "global", "recovery"};
-  return kSections;
-}
-
-// ------------------------------------------------------------------ reader
-class Reader {
- public:
-  Reader(const YAML::Node& node, std::string source, std::string path)
-      : node_(node), source_(std::move(source)), path_(std::move(path)) {
-    if (!node_.IsMap()) fail(node_, "expected a mapping of keys");
-  }
-
-  void number(const char* key, double& x, const char*, const char*) {
-    const YAML::Node n = take(key);
-    if (!n) return;
-    double v = 0.0;
-    if (!n.IsScalar() || !YAML::convert<double>::decode(n, v) || !std::isfinite(v))
-      fail(n, std::string("expected a finite number, got '") + text(n) + "'", key);
-    x = v;
-  }
-  void integer(const char* key, int& x, const char*, const char*) {
-    long long v = 0;
-    if (read_integer(key, &v, std::numeric_limits<int>::min(), std::numeric_limits<int>::max()))
-      x = static_cast<int>(v);
-  }
-  void size(const char* key, std::size_t& x, const char*, const char*) {
-    long long v = 0;
-    if (read_integer(key, &v, 0, std::numeric_limits<int>::max())) x = static_cast<std::size_t>(v);
-  }
-  void uint32(const char* key, std::uint32_t& x, const char*, const char*) {
-    long long v = 0;
-    if (read_integer(key, &v, 0, std::numeric_limits<std::uint32_t>::max()))
-      x = static_cast<std::uint32_t>(v);
-  }
-  void flag(const char* key, bool& x, const char*) {
-    const YAML::Node n = take(key);
-    if (!n) return;
-    bool v = false;
-    if (!n.IsScalar() || !YAML::convert<bool>::decode(n, v))
-      fail(n, std::string("expected true or false, got '") + text(n) + "'", key);
-    x = v;
-  }
-  template <typename E>
-  void choice(const char* key, E& x, const Names<E>& names, const char*) {
-    const YAML::Node n = take(key);
-    if (!n) return;
-    const std::string s = n.IsScalar() ? n.Scalar() : "";
-    std::string known;
-    for (const auto& [name, value] : names) {
-      if (s == name) {
-        x = value;
-        return;
-      }
-      known += (known.empty() ? "" : ", ") + std::string(name);
-    }
-    fail(n, "expected one of " + known + ", got '" + text(n) + "'", key);
-  }
-  template <typename F>
-  void section(const char* key, const char*, F body) {
-    const YAML::Node n = take(key);
-    if (!n) return;
-    Reader sub(n, source_, path_ + "." + key);
-    body(sub);
-    sub.check_unknown();
-  }
-
-  /// Any key of this mapping that no visit() named is a typo or a key of another version.
-  void check_unknown() const {
-    for (auto it = node_.begin(); it != node_.end(); ++it) {
-      // Fuzzing found a key that is itself a mapping or a list: as<string> threw past every
-      // catch of vdtnav::Error.
-      if (!it->first.IsScalar()) fail(it->first, "expected a key name (a plain word)");
-      const std::string key = it->first.as<std::string>();
-      if (used_.count(key) == 0) {
-        std::string known;
-        for (const std::string& k : known_) known += (known.empty() ? "" : ", ") + k;
-        fail(it->first, "unknown key (known: " + known + ")", key);
-      }
-    }
-  }
-
- private:
-  YAML::Node take(const char* key) {
-    known_.emplace_back(key);
-    used_.insert(key);
-    const YAML::Node& map = node_;  // const: a missing key is not inserted
-    const YAML::Node n = map[key];
-    if (n && n.IsNull()) fail(n, "expected a value", key);
-    return n;
-  }
-  bool read_integer(const char* key, long long* out, long long lo, long long hi) {
-    const YAML::Node n = take(key);
-    if (!n) return false;
-    long long v = 0;
-    if (!n.IsScalar() || !YAML::convert<long long>::decode(n, v) || v < lo || v > hi)
-      fail(n,
-           std::string("expected an integer in [") + std::to_string(lo) + ", " +
-               std::to_string(hi) + "], got '" + text(n) + "'",
-           key);
-    *out = v;
-    return true;
-  }
-  static std::string text(const YAML::Node& n) {
-    if (n.IsScalar()) return n.Scalar();
-    return n.IsMap() ? "a mapping" : n.IsSequence() ? "a sequence" : "nothing";
-  }
-  [[noreturn]] void fail(const YAML::Node& n, const std::string& what,
-                         const std::string& key = "") const {
-    const int line = n.Mark().line >= 0 ? n.Mark().line + 1 : 0;
-    throw ConfigError(source_ + ":" + std::to_string(line) + ": " + path_ +
-                      (key.empty() ? "" : "." + key) + ": " + what);
-  }
-
-  YAML::Node node_;
-  std::string source_;
-  std::string path_;
-  std::vector<std::string> known_;
-  std::set<std::string> used_;
-};
-
-// ------------------------------------------------------------------ writer
-class Writer {
- public:
-  explicit Writer(std::ostringstream& out, int indent) : out_(out), indent_(indent) {}
-
-  void number(const char* key, double& x, const char* unit, const char* doc) {
-    std::ostringstream v;
-    v << std::setprecision(17) << x;
-    // Shortest representation that reads back to the same double.
-    for (int p = 1; p <= 17; ++p) {
-      std::ostringstream t;
-      t << std::setprecision(p) << x;
-      if (std::stod(t.str()) == x) {
-        v.str(t.str());
-        break;
-      }
-    }
-    line(key, v.str(), unit, doc);
-  }
-  void integer(const char* key, int& x, const char* unit, const char* doc) {
-    line(key, std::to_string(x), unit, doc);
-  }
-  void size(const char* key, std::size_t& x, const char* unit, const char* doc) {
-    line(key, std::to_string(x), unit, doc);
-  }
-  void uint32(const char* key, std::uint32_t& x, const char* unit, const char* doc) {
-    line(key, std::to_string(x), unit, doc);
-  }
-  void flag(const char* key, bool& x, const char* doc) { line(key, x ? "true" : "false", "", doc); }
-  template <typename E>
-  void choice(const char* key, E& x, const Names<E>& names, const char* doc) {
-    for (const auto& [name, value] : names) {
-      if (value == x) line(key, name, "", doc);
-    }
-  }
-  template <typename F>
-  void section(const char* key, const char* doc, F body) {
-    out_ << std::string(static_cast<std::size_t>(indent_), ' ') << key << ":  # " << doc << "\n";
-    Writer sub(out_, indent_ + 2);
-    body(sub);
-  }
-
- private:
-  void line(const char* key, const std::string& value, const char* unit, const char* doc) {
-    std::string head = std::string(static_cast<std::size_t>(indent_), ' ') + key + ": " + value;
-    if (head.size() < 40) head.resize(40, ' ');
-    out_ << head << "  # " << (unit[0] != '\0' ? std::string("[") + unit + "] " : "") << doc
-         << "\n";
-  }
-
-  std::ostringstream& out_;
-  int indent_;
-};
-
-}  // namespace
-
-std::string localizer_config_section(const std::string& method) {
-  if (method == "udt-opt" || method == "udt-ekf") return "udt";
-  for (const std::string& s : sections()) {
-    if (s == method && s != "udt") return s;
-  }
-  std::string known;
-  for (const auto& m : localizer_methods()) known += (known.empty() ? "" : ", ") + m;
-  throw ConfigError("unknown localization method '" + method + "' (expected one of: " + known +
-                    ")");
-}
-
-LocalizerSettings parse_localizer_config(const std::string& text, const std::string& source,
-                                         const LocalizerSettings& defaults) {
-  YAML::Node root;
-  try {
-    root = YAML::Load(text);
-  } catch (const YAML::Exception& e) {
-    throw ConfigError(source + ":" + std::to_string(e.mark.line + 1) +
-                      ": malformed YAML: " + e.msg);
-  }
-  LocalizerSettings s = defaults;
-  if (!root || root.IsNull()) return s;  // an empty file: the defaults
-  if (!root.IsMap()) {
-    throw ConfigError(source + ":" + std::to_string(root.Mark().line + 1) +
-                      ": expected a mapping of sections (vdt-opt, vdt-ekf, udt, pf, active-ekf, "
-                      "passive-ekf, global, recovery)");
-  }
-  for (auto it = root.begin(); it != root.end(); ++it) {
-    if (!it->first.IsScalar()) {
-      throw ConfigError(source + ":" + std::to_string(it->first.Mark().line + 1) +
-                        ": expected a section name (a plain word), not a mapping or a list");
-    }
-    const std::string name = it->first.as<std::string>();
-    bool known = false;
-    for (const std::string& sec : sections()) known = known || sec == name;
-    if (!known) {
-      throw ConfigError(
-          source + ":" + std::to_string(it->first.Mark().line + 1) + ": unknown section '" + name +
-          "' (known: vdt-opt, vdt-ekf, udt, pf, active-ekf, passive-ekf, global, recovery)");
-    }
-    Reader r(it->second, source, name);
-    visit_section(r, name, s);
-    r.check_unknown();
-  }
-  return s;
-}
-
-LocalizerSettings load_localizer_config(const std::string& path,
-                                        const LocalizerSettings& defaults) {
-  std::ifstream in(path);
-  VDTNAV_CHECK(in.good(), "cannot read the settings file '" + path + "'");
-  std::ostringstream text;
-  text << in.rdbuf();
-  return parse_localizer_config(text.str(), path, defaults);
-}
-
-std::string localizer_settings_yaml(const LocalizerSettings& settings, const std::string& method) {
-  const std::string only = method.empty() ? "" : localizer_config_section(method);
-  LocalizerSettings s = settings;  // the visitors take non-const references
-  std::ostringstream out;
-  out << "# vdtnav localizer settings: every key, [unit] and meaning (docs/settings.md).\n";
-  for (const std::string& sec : sections()) {
-    // --init global and recovery: any method
-    if (!only.empty() && sec != only && sec != "global" && sec != "recovery") continue;
-    out << sec << ":  # " << section_doc(sec) << "\n";
-    Writer w(out, 2);
-    visit_section(w, sec, s);
-  }
-  return out.str();
-}
-
-}  // namespace vdtnav
+}  // namespace vdtnav::config_keys

@@ -1,0 +1,75 @@
+#pragma once
+// The keys of the settings file's localize3d: section (private to the estimation component): the
+// sequential 3D localizer of `vdtnav localize3d` (VdtLocalizer3Options, vdt_localizer3d.hpp), as
+// localizer_config_keys.hpp names the 2D ones. Its optimizer reuses the vdt-opt keys; the 4-DOF
+// mode is not a key (--dof chooses it).
+
+#include "localizer_config_keys.hpp"
+#include "vdtnav/estimation/multi_start.hpp"
+#include "vdtnav/estimation/vdt_localizer3d.hpp"
+
+namespace vdtnav::config_keys {
+
+template <typename V>
+void visit(V& v, MultiStartOptions& o) {
+  v.flag("enabled", o.enabled,
+         "solve again from starts around the guess while the solution explains less than "
+         "accept_fraction (--multi-start turns it on)");
+  v.number("explained_distance", o.explained_distance, "m",
+           "a reading with |d| below this is explained");
+  v.number("accept_fraction", o.accept_fraction, "fraction",
+           "stop once a solution explains this fraction of the readings");
+  v.number("offset_translation", o.offset_translation, "m",
+           "starts this far from the guess along x, y, z");
+  v.number("offset_rotation", o.offset_rotation, "rad",
+           "starts turned this much about x, y, z (4-DOF: about z)");
+  v.number("truncation", o.truncation, "m", "tau of the truncated VCD that scores the solutions");
+  v.size("all_starts_below", o.all_starts_below, "count",
+         "sets with fewer readings try every start, then the hops");
+  v.integer("hops", o.hops, "count",
+            "starts drawn within +-offset of the best so far (sets under all_starts_below)");
+  v.uint32("hop_seed", o.hop_seed, "-", "random seed of the hops");
+  v.integer("attitude_grid", o.attitude_grid, "count",
+            "n of the last stage: the attitudes Exp(step (i, j, k)) R_guess, i, j, k in [-n, n] "
+            "(4-DOF: yaw only); 0: off");
+  v.number("attitude_grid_step", o.attitude_grid_step, "rad", "step of the attitude grid");
+  v.size("screen_readings", o.screen_readings, "count",
+         "the grid's attitudes are solved and scored on this many readings first");
+  v.integer("screen_keep", o.screen_keep, "count",
+            "the best screened attitudes, solved with every reading");
+}
+
+template <typename V>
+void visit(V& v, VdtLocalizer3Options& o) {
+  v.section("optimizer",
+            "the 6-DOF (--dof 4: 4-DOF) solve, keys of vdt-opt (odometry_prior, search and "
+            "bridge are 2D only); its sensor: is the 3D map's, the top-level sensor: block does "
+            "not reach it",
+            [&](V& s) { visit(s, o.optimizer); });
+  v.number("sigma_translation_per_metre", o.sigma_translation_per_metre, "m/m",
+           "odometry noise (1 sigma, robot frame) per metre travelled in an increment");
+  v.number("sigma_rotation_per_radian", o.sigma_rotation_per_radian, "rad/rad",
+           "odometry noise per radian turned in an increment");
+  v.number("sigma_translation_per_second", o.sigma_translation_per_second, "m/s",
+           "odometry noise per second (a robot standing still drifts too)");
+  v.number("sigma_rotation_per_second", o.sigma_rotation_per_second, "rad/s",
+           "odometry rotation noise per second");
+  v.number("sigma_imu_attitude", o.sigma_imu_attitude, "rad",
+           "the IMU's roll and pitch noise (1 sigma), for odometry that carries them");
+  v.number_or_nan("held_attitude_sigma", o.held_attitude_sigma, "rad",
+                  "4-DOF without an IMU: the held roll and pitch's standard deviation "
+                  "(--attitude-sigma); .nan: not estimated (NaN rows and columns in the "
+                  "covariance)");
+  v.number("explained_distance", o.explained_distance, "m",
+           "a reading with a smaller disparity is explained (acceptance, lost detection)");
+  v.number("accept_fraction", o.accept_fraction, "fraction",
+           "refuse a solution explaining less of the scan (after multi-start); --min-explained");
+  v.section("multi_start", "starts around the prediction for a solution that explains too little",
+            [&](V& s) { visit(s, o.multi_start); });
+  v.section("lost",
+            "lost detection over a window of scans (keys of recovery:); in 3D every reading the "
+            "map does not explain counts as a contradiction",
+            [&](V& s) { visit(s, o.lost); });
+}
+
+}  // namespace vdtnav::config_keys
