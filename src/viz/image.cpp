@@ -2,9 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <fstream>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 
-#include <stb/stb_image_write.h>
-
+#include "raster.hpp"
 #include "vdtnav/core/error.hpp"
 
 namespace vdtnav::viz {
@@ -32,18 +34,7 @@ void RgbImage::set(int x, int y, Rgb c) {
   rgb[i + 2] = c.b;
 }
 
-void RgbImage::blend(int x, int y, Rgb c, double alpha) {
-  if (!contains(x, y) || !(alpha > 0.0)) return;
-  if (alpha >= 1.0) return set(x, y, c);
-  const std::size_t i = (static_cast<std::size_t>(y) * width + x) * 3;
-  const auto mix = [alpha](std::uint8_t old, std::uint8_t add) {
-    return static_cast<std::uint8_t>(std::lround(old + alpha * (add - old)));
-  };
-  rgb[i] = mix(rgb[i], c.r);
-  rgb[i + 1] = mix(rgb[i + 1], c.g);
-  rgb[i + 2] = mix(rgb[i + 2], c.b);
-}
-
+namespace detail {
 namespace {
 
 /// Floor of v clamped to [lo, hi] without overflowing int for huge or infinite v.
@@ -52,56 +43,150 @@ int clamped_floor(double v, int lo, int hi) {
   return static_cast<int>(std::floor(std::clamp(v, double(lo), double(hi))));
 }
 
-double distance_to_segment(Point p, Point a, Point b) {
-  const double dx = b.x - a.x, dy = b.y - a.y;
-  const double len2 = dx * dx + dy * dy;
-  double t = len2 > 0.0 ? ((p.x - a.x) * dx + (p.y - a.y) * dy) / len2 : 0.0;
-  t = std::clamp(t, 0.0, 1.0);
-  return std::hypot(p.x - (a.x + t * dx), p.y - (a.y + t * dy));
-}
-
 bool finite(Point p) { return std::isfinite(p.x) && std::isfinite(p.y); }
 
-/// Per-pixel coverage over a box of the image, combined with max so that each pixel is blended
-/// once however many segments cover it.
-class CoverageMask {
- public:
-  /// The box covers [xmin, xmax] x [ymin, ymax] (continuous coordinates) clipped to the image.
-  CoverageMask(const RgbImage& img, double xmin, double ymin, double xmax, double ymax)
-      : x0_(clamped_floor(xmin, 0, img.width)),
-        y0_(clamped_floor(ymin, 0, img.height)),
-        w_(clamped_floor(xmax, -1, img.width - 1) + 1 - x0_),
-        h_(clamped_floor(ymax, -1, img.height - 1) + 1 - y0_),
-        cov_(static_cast<std::size_t>(std::max(w_, 0)) * std::max(h_, 0), 0.0f) {}
+/// Clips segment ab to the box [lo, hi] (Liang & Barsky); false if it misses the box.
+bool clip_segment(Point& a, Point& b, Point lo, Point hi) {
+  const double dx = b.x - a.x, dy = b.y - a.y;
+  const double p[4] = {-dx, dx, -dy, dy};
+  const double q[4] = {a.x - lo.x, hi.x - a.x, a.y - lo.y, hi.y - a.y};
+  double t0 = 0.0, t1 = 1.0;
+  for (int i = 0; i < 4; ++i) {
+    if (p[i] == 0.0) {
+      if (q[i] < 0.0) return false;
+    } else if (p[i] < 0.0) {
+      t0 = std::max(t0, q[i] / p[i]);
+    } else {
+      t1 = std::min(t1, q[i] / p[i]);
+    }
+  }
+  if (t0 > t1) return false;
+  const Point a0 = a;
+  a = {a0.x + t0 * dx, a0.y + t0 * dy};
+  b = {a0.x + t1 * dx, a0.y + t1 * dy};
+  return true;
+}
 
-  void add_segment(Point a, Point b, double half_width) {
-    if (!finite(a) || !finite(b)) return;
-    const double r = half_width + 1.0;
-    const int x0 = clamped_floor(std::min(a.x, b.x) - r, x0_, x0_ + w_);
-    const int x1 = clamped_floor(std::max(a.x, b.x) + r, x0_ - 1, x0_ + w_ - 1);
-    const int y0 = clamped_floor(std::min(a.y, b.y) - r, y0_, y0_ + h_);
-    const int y1 = clamped_floor(std::max(a.y, b.y) + r, y0_ - 1, y0_ + h_ - 1);
-    for (int y = y0; y <= y1; ++y) {
-      for (int x = x0; x <= x1; ++x) {
-        const double d = distance_to_segment({x + 0.5, y + 0.5}, a, b);
-        float& m = cov_[static_cast<std::size_t>(y - y0_) * w_ + (x - x0_)];
-        m = std::max(m, static_cast<float>(std::clamp(half_width + 0.5 - d, 0.0, 1.0)));
+/// Clips a polygon to the box [lo, hi], one box edge at a time (Sutherland & Hodgman).
+std::vector<Point> clip_polygon(std::vector<Point> poly, Point lo, Point hi) {
+  const auto coord = [](Point p, int axis) { return axis == 0 ? p.x : p.y; };
+  for (int edge = 0; edge < 4 && !poly.empty(); ++edge) {
+    const int axis = edge / 2;
+    const double bound = edge % 2 == 0 ? coord(lo, axis) : coord(hi, axis);
+    const double side = edge % 2 == 0 ? 1.0 : -1.0;
+    const auto inside = [&](Point p) { return side * (coord(p, axis) - bound) >= 0.0; };
+    const auto cross = [&](Point a, Point b) {
+      const double t = (bound - coord(a, axis)) / (coord(b, axis) - coord(a, axis));
+      return Point{a.x + t * (b.x - a.x), a.y + t * (b.y - a.y)};
+    };
+    std::vector<Point> out;
+    for (std::size_t i = 0; i < poly.size(); ++i) {
+      const Point a = poly[(i + poly.size() - 1) % poly.size()], b = poly[i];
+      if (inside(a) != inside(b)) out.push_back(cross(a, b));
+      if (inside(b)) out.push_back(b);
+    }
+    poly = std::move(out);
+  }
+  return poly;
+}
+
+cv::Mat as_const_mat(const RgbImage& img) {
+  return {img.height, img.width, CV_8UC3, const_cast<std::uint8_t*>(img.rgb.data())};
+}
+
+}  // namespace
+
+cv::Mat as_mat(RgbImage& img) { return {img.height, img.width, CV_8UC3, img.rgb.data()}; }
+
+void blend(RgbImage& img, const cv::Mat& coverage, cv::Point at, Rgb c, double alpha) {
+  if (!(alpha > 0.0)) return;
+  alpha = std::min(alpha, 1.0);
+  const cv::Rect r = cv::Rect(at, coverage.size()) & cv::Rect(0, 0, img.width, img.height);
+  const std::uint8_t col[3] = {c.r, c.g, c.b};
+  for (int y = r.y; y < r.y + r.height; ++y) {
+    const std::uint8_t* m = coverage.ptr<std::uint8_t>(y - at.y) - at.x;
+    for (int x = r.x; x < r.x + r.width; ++x) {
+      if (m[x] == 0) continue;
+      const double a = alpha * m[x] / 255.0;
+      std::uint8_t* p = &img.rgb[(static_cast<std::size_t>(y) * img.width + x) * 3];
+      for (int k = 0; k < 3; ++k) {
+        p[k] = static_cast<std::uint8_t>(std::lround(p[k] + a * (col[k] - p[k])));
       }
     }
   }
+}
 
-  void blend_into(RgbImage& img, Rgb c, double alpha) const {
-    for (int y = 0; y < h_; ++y) {
-      for (int x = 0; x < w_; ++x) {
-        img.blend(x0_ + x, y0_ + y, c, alpha * cov_[static_cast<std::size_t>(y) * w_ + x]);
-      }
-    }
+Coverage::Coverage(const RgbImage& img, double xmin, double ymin, double xmax, double ymax)
+    : x0_(clamped_floor(xmin, 0, img.width)), y0_(clamped_floor(ymin, 0, img.height)) {
+  const int w = clamped_floor(xmax, -1, img.width - 1) + 1 - x0_;
+  const int h = clamped_floor(ymax, -1, img.height - 1) + 1 - y0_;
+  if (w > 0 && h > 0) mask_ = cv::Mat::zeros(h * kSuper, w * kSuper, CV_8UC1);
+}
+
+cv::Point Coverage::fixed(Point p) const {
+  const auto f = [](double v, int origin) {
+    const double limit = 1 << 20;  // clipping keeps shapes far inside this
+    const double fine = std::clamp((v - origin) * kSuper - 0.5, -limit, limit);
+    return static_cast<int>(std::lround(fine * (1 << kShift)));
+  };
+  return {f(p.x, x0_), f(p.y, y0_)};
+}
+
+void Coverage::segment(Point a, Point b, double width) {
+  if (empty() || !finite(a) || !finite(b)) return;
+  const double m = width + 2.0;  // anything farther outside the mask leaves it untouched
+  const double w = static_cast<double>(mask_.cols) / kSuper,
+               h = static_cast<double>(mask_.rows) / kSuper;
+  if (!clip_segment(a, b, {x0_ - m, y0_ - m}, {x0_ + w + m, y0_ + h + m})) return;
+  // A rectangle and two discs: cv::line's thick strokes come only in odd fine-pixel widths.
+  const double len = std::hypot(b.x - a.x, b.y - a.y), r = 0.5 * width;
+  if (len > 0.0) {
+    const Point n{-(b.y - a.y) / len * r, (b.x - a.x) / len * r};
+    polygon({{a.x + n.x, a.y + n.y},
+             {b.x + n.x, b.y + n.y},
+             {b.x - n.x, b.y - n.y},
+             {a.x - n.x, a.y - n.y}});
   }
+  disc(a, r);
+  disc(b, r);
+}
 
- private:
-  int x0_, y0_, w_, h_;
-  std::vector<float> cov_;
-};
+void Coverage::polygon(std::vector<Point> pts) {
+  if (empty()) return;
+  for (const Point& p : pts) {
+    if (!finite(p)) return;
+  }
+  const double w = static_cast<double>(mask_.cols) / kSuper,
+               h = static_cast<double>(mask_.rows) / kSuper;
+  pts = clip_polygon(std::move(pts), {x0_ - 2.0, y0_ - 2.0}, {x0_ + w + 2.0, y0_ + h + 2.0});
+  if (pts.size() < 3) return;
+  std::vector<cv::Point> poly;
+  poly.reserve(pts.size());
+  for (const Point& p : pts) poly.push_back(fixed(p));
+  cv::fillPoly(mask_, std::vector<std::vector<cv::Point>>{poly}, 255, cv::LINE_8, kShift);
+}
+
+void Coverage::disc(Point centre, double radius) {
+  if (empty() || !finite(centre) || !(radius > 0.0)) return;
+  // As for lines: the outline's fine pixels are included, half a fine pixel off the radius.
+  const double fine_radius = std::max(radius * kSuper - 0.5, 0.0);
+  cv::circle(mask_, fixed(centre), static_cast<int>(std::lround(fine_radius * (1 << kShift))), 255,
+             cv::FILLED, cv::LINE_8, kShift);
+}
+
+void Coverage::blend_into(RgbImage& img, Rgb c, double alpha) const {
+  if (empty()) return;
+  cv::Mat coverage;
+  cv::resize(mask_, coverage, cv::Size(mask_.cols / kSuper, mask_.rows / kSuper), 0.0, 0.0,
+             cv::INTER_AREA);
+  blend(img, coverage, {x0_, y0_}, c, alpha);
+}
+
+}  // namespace detail
+
+namespace {
+
+using detail::Coverage;
 
 /// Splits a polyline into dashes of length `on` separated by gaps of length `off`.
 std::vector<std::vector<Point>> dashes(const std::vector<Point>& pts, double on, double off) {
@@ -133,29 +218,31 @@ std::vector<std::vector<Point>> dashes(const std::vector<Point>& pts, double on,
   return out;
 }
 
-/// Adds weight w times the covered fraction of each pixel of the span [xa, xb) to acc.
-void add_span(std::vector<float>& acc, double xa, double xb, float w) {
-  const double n = static_cast<double>(acc.size());
-  xa = std::clamp(xa, 0.0, n);
-  xb = std::clamp(xb, 0.0, n);
-  if (xb <= xa) return;
-  const auto ia = static_cast<std::size_t>(xa), ib = static_cast<std::size_t>(xb);
-  if (ia == ib) {
-    acc[ia] += static_cast<float>(xb - xa) * w;
-    return;
+/// The coverage mask of the bounding box of `pts` grown by `margin` pixels.
+Coverage box_of(const RgbImage& img, const std::vector<Point>& pts, double margin) {
+  double xmin = HUGE_VAL, ymin = HUGE_VAL, xmax = -HUGE_VAL, ymax = -HUGE_VAL;
+  for (const Point& p : pts) {
+    if (!std::isfinite(p.x) || !std::isfinite(p.y)) continue;
+    xmin = std::min(xmin, p.x - margin);
+    ymin = std::min(ymin, p.y - margin);
+    xmax = std::max(xmax, p.x + margin);
+    ymax = std::max(ymax, p.y + margin);
   }
-  acc[ia] += static_cast<float>(ia + 1 - xa) * w;
-  for (std::size_t i = ia + 1; i < ib; ++i) acc[i] += w;
-  if (ib < acc.size()) acc[ib] += static_cast<float>(xb - ib) * w;
+  return {img, xmin, ymin, xmax, ymax};
 }
 
 }  // namespace
 
 void fill_rect(RgbImage& img, const PixelRect& rect, Rgb c, double alpha) {
-  const int x0 = std::max(rect.x, 0), x1 = std::min(rect.x + rect.width, img.width);
-  const int y0 = std::max(rect.y, 0), y1 = std::min(rect.y + rect.height, img.height);
-  for (int y = y0; y < y1; ++y) {
-    for (int x = x0; x < x1; ++x) img.blend(x, y, c, alpha);
+  const cv::Rect r =
+      cv::Rect(rect.x, rect.y, rect.width, rect.height) & cv::Rect(0, 0, img.width, img.height);
+  if (r.empty() || !(alpha > 0.0)) return;
+  cv::Mat roi = detail::as_mat(img)(r);
+  const cv::Scalar color(c.r, c.g, c.b);
+  if (alpha >= 1.0) {
+    roi.setTo(color);
+  } else {
+    cv::addWeighted(roi, 1.0 - alpha, cv::Mat(roi.size(), roi.type(), color), alpha, 0.0, roi);
   }
 }
 
@@ -172,73 +259,31 @@ void draw_line(RgbImage& img, Point a, Point b, Rgb c, double width, double alph
 
 void draw_polyline(RgbImage& img, const std::vector<Point>& pts, Rgb c, double width, double alpha,
                    bool dashed) {
-  const double hw = 0.5 * width;
-  double xmin = HUGE_VAL, ymin = HUGE_VAL, xmax = -HUGE_VAL, ymax = -HUGE_VAL;
-  for (const Point& p : pts) {
-    if (!finite(p)) continue;
-    xmin = std::min(xmin, p.x - hw - 1);
-    ymin = std::min(ymin, p.y - hw - 1);
-    xmax = std::max(xmax, p.x + hw + 1);
-    ymax = std::max(ymax, p.y + hw + 1);
-  }
-  if (!(xmax >= xmin)) return;
-  CoverageMask mask(img, xmin, ymin, xmax, ymax);
-  if (pts.size() == 1) mask.add_segment(pts[0], pts[0], hw);
+  if (pts.empty()) return;
+  Coverage mask = box_of(img, pts, 0.5 * width + 2.0);
+  if (pts.size() == 1) mask.segment(pts[0], pts[0], width);
   if (dashed) {
     // Round caps lengthen each dash by the width: keep the visible gap about width + 3 px.
     for (const auto& dash : dashes(pts, 2.0 * width + 3.0, 2.0 * width + 4.0)) {
-      for (std::size_t i = 1; i < dash.size(); ++i) mask.add_segment(dash[i - 1], dash[i], hw);
+      for (std::size_t i = 1; i < dash.size(); ++i) mask.segment(dash[i - 1], dash[i], width);
     }
   } else {
-    for (std::size_t i = 1; i < pts.size(); ++i) mask.add_segment(pts[i - 1], pts[i], hw);
+    for (std::size_t i = 1; i < pts.size(); ++i) mask.segment(pts[i - 1], pts[i], width);
   }
   mask.blend_into(img, c, alpha);
 }
 
 void fill_circle(RgbImage& img, Point centre, double radius, Rgb c, double alpha) {
-  if (!finite(centre)) return;
-  const int x0 = clamped_floor(centre.x - radius - 1, 0, img.width);
-  const int x1 = clamped_floor(centre.x + radius + 1, 0, img.width - 1);
-  const int y0 = clamped_floor(centre.y - radius - 1, 0, img.height);
-  const int y1 = clamped_floor(centre.y + radius + 1, 0, img.height - 1);
-  for (int y = y0; y <= y1; ++y) {
-    for (int x = x0; x <= x1; ++x) {
-      const double d = std::hypot(x + 0.5 - centre.x, y + 0.5 - centre.y);
-      img.blend(x, y, c, alpha * std::clamp(radius + 0.5 - d, 0.0, 1.0));
-    }
-  }
+  Coverage mask = box_of(img, {centre}, radius + 2.0);
+  mask.disc(centre, radius);
+  mask.blend_into(img, c, alpha);
 }
 
 void fill_polygon(RgbImage& img, const std::vector<Point>& pts, Rgb c, double alpha) {
-  if (pts.size() < 3 || img.width == 0) return;
-  double ymin = pts[0].y, ymax = pts[0].y;
-  for (const Point& p : pts) {
-    if (!finite(p)) return;
-    ymin = std::min(ymin, p.y);
-    ymax = std::max(ymax, p.y);
-  }
-  constexpr int kSub = 4;  // sub-scanlines per pixel row
-  std::vector<float> acc(static_cast<std::size_t>(img.width));
-  std::vector<double> xs;
-  const int y0 = clamped_floor(ymin, 0, img.height), y1 = clamped_floor(ymax, -1, img.height - 1);
-  for (int y = y0; y <= y1; ++y) {
-    std::fill(acc.begin(), acc.end(), 0.0f);
-    for (int s = 0; s < kSub; ++s) {
-      const double sy = y + (s + 0.5) / kSub;
-      xs.clear();
-      for (std::size_t i = 0, j = pts.size() - 1; i < pts.size(); j = i++) {
-        const Point a = pts[j], b = pts[i];
-        if ((a.y <= sy) != (b.y <= sy)) xs.push_back(a.x + (sy - a.y) * (b.x - a.x) / (b.y - a.y));
-      }
-      std::sort(xs.begin(), xs.end());
-      for (std::size_t k = 0; k + 1 < xs.size(); k += 2) {
-        add_span(acc, xs[k], xs[k + 1], 1.0f / kSub);
-      }
-    }
-    for (int x = 0; x < img.width; ++x) {
-      if (acc[x] > 0.0f) img.blend(x, y, c, alpha * std::min(acc[x], 1.0f));
-    }
-  }
+  if (pts.size() < 3) return;
+  Coverage mask = box_of(img, pts, 2.0);
+  mask.polygon(pts);
+  mask.blend_into(img, c, alpha);
 }
 
 void draw_marker(RgbImage& img, Point p, Marker marker, double size, Rgb c, double alpha) {
@@ -261,16 +306,15 @@ void draw_marker(RgbImage& img, Point p, Marker marker, double size, Rgb c, doub
     }
     case Marker::kCross:
     case Marker::kPlus: {
-      const double hw = std::max(0.75, size / 10.0);
+      const double w = std::max(1.5, size / 5.0);
       const double k = marker == Marker::kCross ? r * 0.75 : r;
-      CoverageMask mask(img, p.x - r - hw - 1, p.y - r - hw - 1, p.x + r + hw + 1,
-                        p.y + r + hw + 1);
+      Coverage mask = box_of(img, {p}, r + w + 2.0);
       if (marker == Marker::kCross) {
-        mask.add_segment({p.x - k, p.y - k}, {p.x + k, p.y + k}, hw);
-        mask.add_segment({p.x - k, p.y + k}, {p.x + k, p.y - k}, hw);
+        mask.segment({p.x - k, p.y - k}, {p.x + k, p.y + k}, w);
+        mask.segment({p.x - k, p.y + k}, {p.x + k, p.y - k}, w);
       } else {
-        mask.add_segment({p.x - k, p.y}, {p.x + k, p.y}, hw);
-        mask.add_segment({p.x, p.y - k}, {p.x, p.y + k}, hw);
+        mask.segment({p.x - k, p.y}, {p.x + k, p.y}, w);
+        mask.segment({p.x, p.y - k}, {p.x, p.y + k}, w);
       }
       return mask.blend_into(img, c, alpha);
     }
@@ -278,36 +322,34 @@ void draw_marker(RgbImage& img, Point p, Marker marker, double size, Rgb c, doub
 }
 
 void blit(RgbImage& dst, const RgbImage& src, int x, int y) {
-  for (int j = std::max(0, -y); j < src.height && y + j < dst.height; ++j) {
-    for (int i = std::max(0, -x); i < src.width && x + i < dst.width; ++i) {
-      dst.set(x + i, y + j, src.at(i, j));
-    }
-  }
+  const cv::Rect r = cv::Rect(x, y, src.width, src.height) & cv::Rect(0, 0, dst.width, dst.height);
+  if (r.empty()) return;
+  detail::as_const_mat(src)(r - cv::Point(x, y)).copyTo(detail::as_mat(dst)(r));
 }
 
 void draw_scaled(RgbImage& dst, const RgbImage& src, double x0, double y0, double x1, double y1) {
-  if (!(x1 > x0) || !(y1 > y0) || src.width == 0 || src.height == 0) return;
-  // Pixels whose centre lies in [x0, x1) x [y0, y1): centre i + 0.5 >= x0  <=>  i >= x0 - 0.5.
-  const int i0 = clamped_floor(std::ceil(x0 - 0.5), 0, dst.width);
-  const int i1 = clamped_floor(std::ceil(x1 - 0.5), 0, dst.width);
-  const int j0 = clamped_floor(std::ceil(y0 - 0.5), 0, dst.height);
-  const int j1 = clamped_floor(std::ceil(y1 - 0.5), 0, dst.height);
-  for (int j = j0; j < j1; ++j) {
-    const int sy =
-        std::min(src.height - 1, static_cast<int>((j + 0.5 - y0) / (y1 - y0) * src.height));
-    for (int i = i0; i < i1; ++i) {
-      const int sx =
-          std::min(src.width - 1, static_cast<int>((i + 0.5 - x0) / (x1 - x0) * src.width));
-      dst.set(i, j, src.at(sx, sy));
-    }
+  if (!(x1 > x0) || !(y1 > y0) || src.width == 0 || src.height == 0 || dst.width == 0 ||
+      dst.height == 0) {
+    return;
   }
+  // Inverse map of pixel centres, dst (i + 0.5) -> src (i + 0.5 - x0) / (x1 - x0) * width; OpenCV
+  // puts centres at integers, hence the -0.5 on both sides. Pixels mapping outside src stay.
+  const double sx = src.width / (x1 - x0), sy = src.height / (y1 - y0);
+  const cv::Matx23d inverse(sx, 0.0, (0.5 - x0) * sx - 0.5, 0.0, sy, (0.5 - y0) * sy - 0.5);
+  cv::Mat out = detail::as_mat(dst);
+  cv::warpAffine(detail::as_const_mat(src), out, inverse, out.size(),
+                 cv::INTER_NEAREST | cv::WARP_INVERSE_MAP, cv::BORDER_TRANSPARENT);
 }
 
 void write_png(const std::string& path, const RgbImage& img) {
   VDTNAV_CHECK(img.width > 0 && img.height > 0, "cannot write an empty image to " + path);
-  if (stbi_write_png(path.c_str(), img.width, img.height, 3, img.rgb.data(), img.width * 3) == 0) {
-    throw IoError("cannot write PNG file " + path);
-  }
+  cv::Mat bgr;
+  cv::cvtColor(detail::as_const_mat(img), bgr, cv::COLOR_RGB2BGR);
+  std::vector<std::uint8_t> png;
+  if (!cv::imencode(".png", bgr, png)) throw IoError("cannot encode PNG file " + path);
+  std::ofstream out(path, std::ios::binary);
+  out.write(reinterpret_cast<const char*>(png.data()), static_cast<std::streamsize>(png.size()));
+  if (!out.flush()) throw IoError("cannot write PNG file " + path);
 }
 
 }  // namespace vdtnav::viz

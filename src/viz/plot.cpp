@@ -5,11 +5,15 @@
 #include <cstdio>
 #include <limits>
 
+#include "raster.hpp"
 #include "vdtnav/core/error.hpp"
-#include "vdtnav/viz/font.hpp"
 
 namespace vdtnav::viz {
 namespace {
+
+using detail::Font;
+using detail::HAlign;
+using detail::VAlign;
 
 constexpr Rgb kGridColor{224, 224, 224};
 constexpr Rgb kReferenceColor{80, 80, 80};
@@ -54,10 +58,10 @@ void for_each_run(std::size_t n, Ok&& ok, F&& f) {
   }
 }
 
-int max_label_width(const std::vector<double>& ticks, int scale) {
+int max_label_width(const std::vector<double>& ticks, const Font& font) {
   int w = 0;
   const double step = ticks.size() > 1 ? ticks[1] - ticks[0] : 1.0;
-  for (const double t : ticks) w = std::max(w, text_width(format_tick(t, step), scale));
+  for (const double t : ticks) w = std::max(w, font.width(format_tick(t, step)));
   return w;
 }
 
@@ -239,19 +243,20 @@ void Axes::auto_limits() {
 
 void Axes::draw(RgbImage& canvas, const PixelRect& cell, int s) {
   auto_limits();
-  const int pad = 6 * s, tick = 4 * s, gap = 3 * s, line = kLineHeight * s;
+  const Font font(s);
+  const int pad = 6 * s, tick = 4 * s, gap = 3 * s, line = font.line_height();
   const auto y_ticks_for = [&](int h, double lo, double hi) {
     return nice_ticks(lo, hi, std::clamp(h / (2 * line), 3, 8));
   };
   // Vertical layout first: the height fixes the y ticks, whose labels fix the left margin.
   const int top = pad + (title_.empty() ? 0 : line + pad);
-  const int bottom = tick + gap + kGlyphHeight * s + (xlabel_.empty() ? 0 : pad + line) + pad;
+  const int bottom = tick + gap + font.box_height() + (xlabel_.empty() ? 0 : pad + line) + pad;
   const int h = std::max(cell.height - top - bottom, 1);
   const int left = pad + (ylabel_.empty() ? 0 : line + pad) +
-                   max_label_width(y_ticks_for(h, y0_, y1_), s) + gap + tick;
-  int right = pad + 3 * kGlyphAdvance * s;  // room for the last x label's overhang
+                   max_label_width(y_ticks_for(h, y0_, y1_), font) + gap + tick;
+  int right = pad + 3 * font.advance();  // room for the last x label's overhang
   if (colorbar_) {
-    const int cbw = max_label_width(y_ticks_for(h, colorbar_->lo, colorbar_->hi), s);
+    const int cbw = max_label_width(y_ticks_for(h, colorbar_->lo, colorbar_->hi), font);
     right += 8 * s + 10 * s + tick + gap + cbw + (colorbar_->label.empty() ? 0 : pad + line);
   }
   area_ = {cell.x + left, cell.y + top, std::max(cell.width - left - right, 1), h};
@@ -282,7 +287,7 @@ void Axes::draw(RgbImage& canvas, const PixelRect& cell, int s) {
   std::vector<double> xt;
   for (int m = 8; m >= 2; --m) {  // as many x ticks as fit with their labels apart
     xt = nice_ticks(x0_ - hx, x1_ + hx, m);
-    const int need = static_cast<int>(xt.size()) * (max_label_width(xt, s) + 2 * kGlyphAdvance * s);
+    const int need = static_cast<int>(xt.size()) * (max_label_width(xt, font) + 2 * font.advance());
     if (need <= a.width) break;
   }
 
@@ -313,30 +318,29 @@ void Axes::draw(RgbImage& canvas, const PixelRect& cell, int s) {
   for (const double t : xt) {
     const int px = tick_pixel(to_pixel(t, 0).x, a.x, a.x + a.width);
     fill_rect(canvas, {px, a.y + a.height + 1, tw, tick}, kBlack);
-    draw_text(canvas, px, a.y + a.height + 1 + tick + gap, format_tick(t, xstep), kBlack,
-              {s, HAlign::kCenter, VAlign::kTop});
+    font.draw(canvas, px, a.y + a.height + 1 + tick + gap, format_tick(t, xstep), kBlack,
+              HAlign::kCenter, VAlign::kTop);
   }
   int ylw = 0;
   for (const double t : yt) {
     const int py = tick_pixel(to_pixel(0, t).y, a.y, a.y + a.height);
     const std::string label = format_tick(t, ystep);
-    ylw = std::max(ylw, text_width(label, s));
+    ylw = std::max(ylw, font.width(label));
     fill_rect(canvas, {a.x - 1 - tick, py, tick, tw}, kBlack);
-    draw_text(canvas, a.x - 1 - tick - gap, py, label, kBlack,
-              {s, HAlign::kRight, VAlign::kMiddle});
+    font.draw(canvas, a.x - 1 - tick - gap, py, label, kBlack, HAlign::kRight, VAlign::kMiddle);
   }
   const int cx = a.x + a.width / 2, cy = a.y + a.height / 2;
   if (!title_.empty()) {
-    draw_text(canvas, cx, a.y - 1 - pad, title_, kBlack,
-              {s, HAlign::kCenter, VAlign::kBaseline, false, true});
+    Font(s, true).draw(canvas, cx, a.y - 1 - pad, title_, kBlack, HAlign::kCenter,
+                       VAlign::kBaseline);
   }
   if (!xlabel_.empty()) {
-    draw_text(canvas, cx, a.y + a.height + 1 + tick + gap + kGlyphHeight * s + pad, xlabel_, kBlack,
-              {s, HAlign::kCenter, VAlign::kTop});
+    font.draw(canvas, cx, a.y + a.height + 1 + tick + gap + font.box_height() + pad, xlabel_,
+              kBlack, HAlign::kCenter, VAlign::kTop);
   }
   if (!ylabel_.empty()) {
-    draw_text(canvas, a.x - 1 - tick - gap - ylw - pad - kGlyphHeight * s, cy, ylabel_, kBlack,
-              {s, HAlign::kCenter, VAlign::kTop, true});
+    font.draw(canvas, a.x - 1 - tick - gap - ylw - pad - font.box_height(), cy, ylabel_, kBlack,
+              HAlign::kCenter, VAlign::kTop, true);
   }
   draw_legend(canvas, s);
   draw_colorbar(canvas, s);
@@ -396,15 +400,16 @@ void Axes::draw_series(RgbImage& plot, const Series& s) const {
 }
 
 void Axes::draw_legend(RgbImage& canvas, int s) const {
+  const Font font(s);
   std::vector<const Series*> entries;
   int text_w = 0;
   for (const Series& series : series_) {
     if (series.style.label.empty()) continue;
     entries.push_back(&series);
-    text_w = std::max(text_w, text_width(series.style.label, s));
+    text_w = std::max(text_w, font.width(series.style.label));
   }
   if (entries.empty() || legend_ == LegendLocation::kNone) return;
-  const int pad = 4 * s, row = kLineHeight * s + s, sample = 14 * s, inset = 6 * s;
+  const int pad = 4 * s, row = font.line_height() + s, sample = 14 * s, inset = 6 * s;
   const int w = pad + sample + pad + text_w + pad;
   const int h = 2 * pad + static_cast<int>(entries.size()) * row - s;
   const bool left = legend_ == LegendLocation::kUpperLeft || legend_ == LegendLocation::kLowerLeft;
@@ -416,7 +421,7 @@ void Axes::draw_legend(RgbImage& canvas, int s) const {
   for (std::size_t k = 0; k < entries.size(); ++k) {
     const Series& e = *entries[k];
     const double x0 = box.x + pad, x1 = x0 + sample, xm = 0.5 * (x0 + x1);
-    const int cy = box.y + pad + static_cast<int>(k) * row + kCapHeight * s / 2;
+    const int cy = box.y + pad + static_cast<int>(k) * row + font.cap_height() / 2;
     const double y = cy + 0.5;
     if (e.kind == Kind::kBand) {
       fill_rect(canvas, {box.x + pad, cy - row / 3, sample, 2 * row / 3}, e.color, e.alpha);
@@ -428,14 +433,15 @@ void Axes::draw_legend(RgbImage& canvas, int s) const {
                     e.style.dashed);
       draw_marker(canvas, {xm, y}, e.style.marker, e.style.marker_size, e.color, e.alpha);
     }
-    draw_text(canvas, static_cast<int>(x1) + pad, cy, e.style.label, kBlack,
-              {s, HAlign::kLeft, VAlign::kMiddle});
+    font.draw(canvas, static_cast<int>(x1) + pad, cy, e.style.label, kBlack, HAlign::kLeft,
+              VAlign::kMiddle);
   }
 }
 
 void Axes::draw_colorbar(RgbImage& canvas, int s) const {
   if (!colorbar_) return;
   const Colorbar& cb = *colorbar_;
+  const Font font(s);
   const int tick = 4 * s, gap = 3 * s, pad = 6 * s;
   const PixelRect bar{area_.x + area_.width + 1 + 8 * s, area_.y, 10 * s, area_.height};
   RgbImage ramp(1, 256);
@@ -443,7 +449,7 @@ void Axes::draw_colorbar(RgbImage& canvas, int s) const {
   draw_scaled(canvas, ramp, bar.x, bar.y, bar.x + bar.width, bar.y + bar.height);
   draw_rect(canvas, {bar.x - 1, bar.y - 1, bar.width + 2, bar.height + 2}, kBlack);
   const std::vector<double> ticks =
-      nice_ticks(cb.lo, cb.hi, std::clamp(bar.height / (2 * kLineHeight * s), 3, 8));
+      nice_ticks(cb.lo, cb.hi, std::clamp(bar.height / (2 * font.line_height()), 3, 8));
   const double step = ticks.size() > 1 ? ticks[1] - ticks[0] : 1.0;
   const int xt = bar.x + bar.width + 1;
   int label_w = 0;
@@ -451,13 +457,13 @@ void Axes::draw_colorbar(RgbImage& canvas, int s) const {
     const double y = bar.y + (cb.hi - t) / (cb.hi - cb.lo) * bar.height;
     const int py = tick_pixel(y, bar.y, bar.y + bar.height);
     const std::string label = format_tick(t, step);
-    label_w = std::max(label_w, text_width(label, s));
+    label_w = std::max(label_w, font.width(label));
     fill_rect(canvas, {xt, py, tick, std::max(1, s / 2)}, kBlack);
-    draw_text(canvas, xt + tick + gap, py, label, kBlack, {s, HAlign::kLeft, VAlign::kMiddle});
+    font.draw(canvas, xt + tick + gap, py, label, kBlack, HAlign::kLeft, VAlign::kMiddle);
   }
   if (!cb.label.empty()) {
-    draw_text(canvas, xt + tick + gap + label_w + pad, bar.y + bar.height / 2, cb.label, kBlack,
-              {s, HAlign::kCenter, VAlign::kTop, true});
+    font.draw(canvas, xt + tick + gap + label_w + pad, bar.y + bar.height / 2, cb.label, kBlack,
+              HAlign::kCenter, VAlign::kTop, true);
   }
 }
 
@@ -493,9 +499,9 @@ RgbImage Figure::render() {
   const int s = font_scale_, pad = 6 * s;
   int top = 0;
   if (!title_.empty()) {
-    draw_text(canvas, width_ / 2, pad, title_, kBlack,
-              {s, HAlign::kCenter, VAlign::kTop, false, true});
-    top = pad + kLineHeight * s;
+    const Font bold(s, true);
+    bold.draw(canvas, width_ / 2, pad, title_, kBlack, HAlign::kCenter, VAlign::kTop);
+    top = pad + bold.line_height();
   }
   for (int r = 0; r < rows_; ++r) {
     for (int c = 0; c < cols_; ++c) {

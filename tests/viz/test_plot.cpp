@@ -1,10 +1,10 @@
 #include "vdtnav/viz/plot.hpp"
 
 #include <gtest/gtest.h>
-#include <stb/stb_image.h>
 
 #include <cmath>
 #include <filesystem>
+#include <opencv2/imgcodecs.hpp>
 #include <string>
 #include <vector>
 
@@ -101,7 +101,7 @@ TEST(Axes, SeriesLandWhereTheMappingSays) {
   const Rgb red{220, 0, 0}, green{0, 160, 0};
   ax.xlim(0, 10).ylim(0, 5).grid(false);
   ax.scatter({2.0}, {4.0}, Style().with_color(red).with_marker(Marker::kSquare, 9));
-  ax.line({1.0, 9.0}, {1.0, 1.0}, Style().with_color(green).with_width(3));
+  ax.line({1.0, 9.0}, {1.0, 1.0}, Style().with_color(green).with_width(4));
   const RgbImage img = fig.render();
   EXPECT_EQ(pixel_at(img, ax.to_pixel(2.0, 4.0)), red);
   EXPECT_EQ(pixel_at(img, ax.to_pixel(5.0, 1.0)), green);
@@ -160,8 +160,8 @@ TEST(Axes, BandTakesTheColourOfTheLineDrawnAfterIt) {
   Axes& ax = fig.axes();
   ax.xlim(0, 10).ylim(-3, 3).grid(false);
   ax.band({0.0, 10.0}, {-2.0, -2.0}, {2.0, 2.0});
-  ax.line({0.0, 10.0}, {0.0, 0.0});
-  ax.line({0.0, 10.0}, {-2.5, -2.5});
+  ax.line({0.0, 10.0}, {0.0, 0.0}, Style().with_width(4));  // wide enough for a full pixel
+  ax.line({0.0, 10.0}, {-2.5, -2.5}, Style().with_width(4));
   const RgbImage img = fig.render();
   const Rgb c0 = kColorCycle[0];
   EXPECT_EQ(pixel_at(img, ax.to_pixel(5.0, 0.0)), c0);
@@ -169,6 +169,43 @@ TEST(Axes, BandTakesTheColourOfTheLineDrawnAfterIt) {
   const Rgb band = pixel_at(img, ax.to_pixel(5.0, 1.0));
   const auto mix = [](int c) { return static_cast<int>(std::lround(255 + 0.25 * (c - 255))); };
   EXPECT_EQ(band, (Rgb{std::uint8_t(mix(c0.r)), std::uint8_t(mix(c0.g)), std::uint8_t(mix(c0.b))}));
+}
+
+TEST(Figure, TextStaysInsideTheFigureAndTheLabelsBesideThePlot) {
+  for (const int scale : {1, 2, 3}) {
+    Figure fig(700, 450);
+    fig.font_scale(scale).title("Whole figure title");
+    Axes& ax = fig.axes();
+    ax.xlim(-12345.0, 98765.0).ylim(-0.0042, 0.0031).title("Axes title").xlabel("x label [m]");
+    ax.ylabel("y label [m]").colorbar(Colormap::kViridis, 0.0, 250.0, "colour [units]");
+    ax.line({0.0, 5e4}, {0.0, 0.002}, Style().with_label("a legend entry"));
+    const RgbImage img = fig.render();
+    const PixelRect a = ax.plot_area();
+    // Nothing clipped: a 2-pixel border of the canvas stays white.
+    for (int x = 0; x < img.width; ++x) {
+      for (const int y : {0, 1, img.height - 2, img.height - 1}) {
+        EXPECT_EQ(img.at(x, y), kWhite) << x << "," << y << " scale " << scale;
+      }
+    }
+    for (int y = 0; y < img.height; ++y) {
+      for (const int x : {0, 1, img.width - 2, img.width - 1}) {
+        EXPECT_EQ(img.at(x, y), kWhite) << x << "," << y << " scale " << scale;
+      }
+    }
+    // Ink left of the plot (y label and ticks), under it (x label) and above it (titles).
+    const auto inked = [&img](int x0, int y0, int x1, int y1) {
+      for (int y = y0; y < y1; ++y) {
+        for (int x = x0; x < x1; ++x) {
+          if (img.at(x, y) != kWhite) return true;
+        }
+      }
+      return false;
+    };
+    EXPECT_TRUE(inked(0, a.y, a.x - 12 * scale, a.y + a.height)) << scale;
+    EXPECT_TRUE(inked(a.x, a.y + a.height + 20 * scale, a.x + a.width, img.height)) << scale;
+    EXPECT_TRUE(inked(a.x, 0, a.x + a.width, a.y - 2)) << scale;
+    EXPECT_TRUE(inked(a.x + a.width + 30 * scale, a.y, img.width, a.y + a.height)) << scale;
+  }
 }
 
 TEST(Figure, RejectsBadArgumentsAndUnwritablePaths) {
@@ -219,7 +256,7 @@ TEST(Figure, DemoFigureWithHeatmapColorbarBandAndLegend) {
       .title("Signed distance field")
       .xlabel("x [m]")
       .ylabel("y [m]");
-  map.line(tx, ty, Style().with_color(kBlack).with_label("trajectory"));
+  map.line(tx, ty, Style().with_color(kBlack).with_width(4).with_label("trajectory"));
   map.scatter({tx[0]}, {ty[0]}, Style().with_marker(Marker::kTriangle, 14).with_label("start"));
   Axes& plot = fig.axes(0, 1);
   plot.band(t, sig_lo, sig_hi, Style().with_label("+-2 sigma"))
@@ -231,26 +268,24 @@ TEST(Figure, DemoFigureWithHeatmapColorbarBandAndLegend) {
   const std::string path = tmp_path("demo_figure.png");
   fig.save_png(path);
 
-  int w = 0, h = 0, n = 0;
-  unsigned char* data = stbi_load(path.c_str(), &w, &h, &n, 3);
-  ASSERT_NE(data, nullptr);
-  EXPECT_EQ(w, 1200);
-  EXPECT_EQ(h, 800);
+  const cv::Mat png = cv::imread(path, cv::IMREAD_COLOR);  // b g r
+  ASSERT_FALSE(png.empty());
+  EXPECT_EQ(png.cols, 1200);
+  EXPECT_EQ(png.rows, 800);
   const auto at = [&](Point p) {
-    const std::size_t i = (static_cast<std::size_t>(std::floor(p.y)) * w + std::floor(p.x)) * 3;
-    return Rgb{data[i], data[i + 1], data[i + 2]};
+    const cv::Vec3b v = png.at<cv::Vec3b>(static_cast<int>(p.y), static_cast<int>(p.x));
+    return Rgb{v[2], v[1], v[0]};
   };
   // Inside the map away from the trajectory: the field's colour; on the trajectory: black.
-  const Eigen::Vector2d probe(0.0, 0.0);
+  const Eigen::Vector2d probe(0.025, 0.025);  // a cell centre
   const Eigen::Vector2i cell = sdf.cell_of(probe);
   EXPECT_EQ(at(map.to_pixel(probe.x(), probe.y())),
             colormap(Colormap::kBlueWhiteRed, (sdf(cell) + m) / (2 * m)));
-  EXPECT_EQ(at(map.to_pixel(tx[50], ty[50])), kBlack);
+  EXPECT_EQ(at(map.to_pixel(tx[150], ty[150])), kBlack);  // bottom, clear of the legend
   // The colorbar's top, right of the map, shows the high end of the colormap.
   const PixelRect a = map.plot_area();
   EXPECT_EQ(at({a.x + a.width + 1 + 8 * 2 + 10.0, a.y + 0.0}),
             colormap(Colormap::kBlueWhiteRed, 1.0 - 0.5 / 256));
-  stbi_image_free(data);
 }
 
 }  // namespace

@@ -4,8 +4,9 @@
 ///
 /// Drawing uses continuous pixel coordinates: pixel (i, j) covers [i, i+1) x [j, j+1), so its
 /// centre is (i + 0.5, j + 0.5); x grows to the right, y grows *down*. Everything is clipped to the
-/// image. Anti-aliasing takes the coverage of a pixel as `clamp(half_width + 0.5 - d, 0, 1)`, d the
-/// distance from the pixel centre to the shape's skeleton (segment, circle centre).
+/// image. Shapes are drawn by OpenCV's imgproc (cv::fillPoly, cv::circle) at 4 x 4
+/// sub-pixels per pixel, averaged to an anti-aliased coverage mask and blended once into the image;
+/// OpenCV stays inside the library.
 
 #include <cstdint>
 #include <string>
@@ -63,8 +64,6 @@ struct RgbImage {
   [[nodiscard]] Rgb at(int x, int y) const;
   /// \brief Sets pixel (x, y); no-op outside the image.
   void set(int x, int y, Rgb c);
-  /// \brief Mixes `c` into pixel (x, y) with opacity alpha in [0, 1]; no-op outside the image.
-  void blend(int x, int y, Rgb c, double alpha);
 };
 
 /// \brief Marker shapes for scatter plots and legends.
@@ -76,7 +75,7 @@ void fill_rect(RgbImage& img, const PixelRect& rect, Rgb c, double alpha = 1.0);
 void draw_rect(RgbImage& img, const PixelRect& rect, Rgb c, int thickness = 1);
 
 /// \brief Anti-aliased segment from a to b with round caps.
-/// \param width stroke width in pixels.
+/// \param width stroke width in pixels (to a quarter pixel).
 void draw_line(RgbImage& img, Point a, Point b, Rgb c, double width = 1.0, double alpha = 1.0);
 
 /// \brief Anti-aliased polyline with round joins; each pixel is blended once, so overlapping
@@ -87,8 +86,7 @@ void draw_polyline(RgbImage& img, const std::vector<Point>& pts, Rgb c, double w
 /// \brief Anti-aliased filled disc.
 void fill_circle(RgbImage& img, Point centre, double radius, Rgb c, double alpha = 1.0);
 
-/// \brief Anti-aliased filled polygon (even-odd rule), 4 sub-scanlines per row with exact
-/// horizontal coverage; suitable for large translucent bands.
+/// \brief Anti-aliased filled polygon (cv::fillPoly); suitable for large translucent bands.
 void fill_polygon(RgbImage& img, const std::vector<Point>& pts, Rgb c, double alpha = 1.0);
 
 /// \brief Draws a marker of diameter `size` pixels centred at `centre`.
@@ -102,7 +100,7 @@ void blit(RgbImage& dst, const RgbImage& src, int x, int y);
 /// [x0, x1] x [y0, y1] of `dst`; crisp cells, as wanted for maps.
 void draw_scaled(RgbImage& dst, const RgbImage& src, double x0, double y0, double x1, double y1);
 
-/// \brief Writes `img` as an 8-bit RGB PNG.
+/// \brief Writes `img` as an 8-bit RGB PNG (whatever the file name's extension).
 /// \throws vdtnav::IoError naming `path` if the file cannot be written.
 void write_png(const std::string& path, const RgbImage& img);
 
