@@ -12,23 +12,11 @@
 namespace intel_study {
 namespace {
 
-viz::RgbImage ros_image(const Grid<std::int8_t, 2>& cells) {
-  const int w = cells.size().x(), h = cells.size().y();
-  viz::RgbImage img(w, h);
-  for (int j = 0; j < h; ++j) {
-    for (int i = 0; i < w; ++i) {
-      const int v = cells(Eigen::Vector2i(i, j));
-      const auto g = static_cast<std::uint8_t>(v < 0 ? 205 : (v >= 65 ? 0 : 255));
-      img.set(i, h - 1 - j, {g, g, g});
-    }
-  }
-  return img;
-}
-
 void map_axes(viz::Axes& ax, const Grid<std::int8_t, 2>& cells) {
   const auto& f = cells.frame();
-  ax.image(ros_image(cells), f.origin().x(), f.origin().x() + cells.size().x() * f.resolution(),
-           f.origin().y(), f.origin().y() + cells.size().y() * f.resolution())
+  ax.image(viz::occupancy_image(cells), f.origin().x(),
+           f.origin().x() + cells.size().x() * f.resolution(), f.origin().y(),
+           f.origin().y() + cells.size().y() * f.resolution())
       .equal_aspect()
       .xlabel("x [m]")
       .ylabel("y [m]");

@@ -9,29 +9,14 @@
 #include <vector>
 
 #include "pmd_study.hpp"
+#include "study_common.hpp"
 #include "vdtnav/viz/viz.hpp"
 
 namespace pmd_study {
 
 using namespace vdtnav;
+using study::to_rgb;
 using namespace vdtnav::rgbd_ground;
-
-namespace {
-
-viz::RgbImage to_rgb(const cv::Mat& bgr) {
-  viz::RgbImage img(bgr.cols, bgr.rows);
-  for (int r = 0; r < bgr.rows; ++r)
-    for (int c = 0; c < bgr.cols; ++c) {
-      const cv::Vec3b v = bgr.at<cv::Vec3b>(r, c);
-      std::uint8_t* px = &img.rgb[3 * (static_cast<std::size_t>(r) * bgr.cols + c)];
-      px[0] = v[2];
-      px[1] = v[1];
-      px[2] = v[0];
-    }
-  return img;
-}
-
-}  // namespace
 
 void draw_figures(const std::string& out, const Scenario& sc, const FilterRun& run) {
   const OccupancyGrid<2>& boundaries = sc.boundaries;

@@ -7,23 +7,14 @@
 #include <vector>
 
 #include "pmd_study.hpp"
+#include "study_common.hpp"
 #include "vdtnav/eval/nees.hpp"
 
 namespace pmd_study {
 
 using namespace vdtnav;
+using study::rms;
 using namespace vdtnav::rgbd_ground;
-
-namespace {
-
-double rms(const std::vector<double>& v) {
-  if (v.empty()) return std::nan("");
-  double s = 0.0;
-  for (double x : v) s += x * x;
-  return std::sqrt(s / static_cast<double>(v.size()));
-}
-
-}  // namespace
 
 void write_tables(const std::string& out, const Scenario& sc, const FilterRun& run) {
   const ScooterDrive& drive = sc.drive;

@@ -7,28 +7,15 @@
 #include <string>
 #include <vector>
 
+#include "study_common.hpp"
 #include "uav_study.hpp"
 #include "vdtnav/viz/viz.hpp"
 
 namespace uav_study {
 
 using namespace vdtnav;
+using study::to_rgb;
 using namespace vdtnav::uav_camera;
-
-namespace {
-
-viz::RgbImage to_rgb(const cv::Mat& gray) {
-  viz::RgbImage img(gray.cols, gray.rows);
-  for (int r = 0; r < gray.rows; ++r)
-    for (int c = 0; c < gray.cols; ++c) {
-      const std::uint8_t v = gray.at<std::uint8_t>(r, c);
-      std::uint8_t* px = &img.rgb[3 * (static_cast<std::size_t>(r) * gray.cols + c)];
-      px[0] = px[1] = px[2] = v;
-    }
-  return img;
-}
-
-}  // namespace
 
 void draw_figures(const std::string& out, const Scenario& sc, double altitude,
                   const FlightRun& run) {

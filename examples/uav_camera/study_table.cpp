@@ -6,24 +6,15 @@
 #include <string>
 #include <vector>
 
+#include "study_common.hpp"
 #include "uav_study.hpp"
 #include "vdtnav/eval/nees.hpp"
 
 namespace uav_study {
 
 using namespace vdtnav;
+using study::rms;
 using namespace vdtnav::uav_camera;
-
-namespace {
-
-double rms(const std::vector<double>& v) {
-  if (v.empty()) return std::nan("");
-  double s = 0.0;
-  for (double x : v) s += x * x;
-  return std::sqrt(s / static_cast<double>(v.size()));
-}
-
-}  // namespace
 
 void write_tables(const std::string& out, const Scenario& sc, const FlightRun& run) {
   const std::vector<UavFlightSample>& flight = sc.flight;

@@ -129,7 +129,8 @@ void visit(V& v, VdtOptimizerOptions& o) {
   v.choice("trust_region", o.trust_region, kTrustRegions,
            "Ceres trust-region strategy (solver: ceres; dense is Levenberg-Marquardt)");
   v.flag("odometry_prior", o.odometry_prior,
-         "vdt-opt: the prediction as a prior of every solve (maximum a posteriori)");
+         "vdt-opt, localize3d: the prediction as a prior of every solve (maximum a "
+         "posteriori)");
   v.choice("loss", o.loss, kLosses, "robust loss on each reading's squared disparity");
   v.number("loss_scale", o.loss_scale, "m", "where the robust loss departs from quadratic");
   v.choice("covariance_method", o.covariance, kCovarianceMethods,

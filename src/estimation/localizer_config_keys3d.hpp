@@ -42,9 +42,8 @@ void visit(V& v, MultiStartOptions& o) {
 template <typename V>
 void visit(V& v, VdtLocalizer3Options& o) {
   v.section("optimizer",
-            "the 6-DOF (--dof 4: 4-DOF) solve, keys of vdt-opt (odometry_prior, search and "
-            "bridge are 2D only); its sensor: is the 3D map's, the top-level sensor: block does "
-            "not reach it",
+            "the 6-DOF (--dof 4: 4-DOF) solve, keys of vdt-opt (search and bridge are 2D "
+            "only); its sensor: is the 3D map's, the top-level sensor: block does not reach it",
             [&](V& s) { visit(s, o.optimizer); });
   v.number("sigma_translation_per_metre", o.sigma_translation_per_metre, "m/m",
            "odometry noise (1 sigma, robot frame) per metre travelled in an increment");

@@ -92,4 +92,11 @@ RgbImage occupancy_image(const Grid<std::uint8_t, 2>& occupancy) {
   return grid_image(occupancy, [](std::uint8_t v) { return v != 0 ? kBlack : kWhite; });
 }
 
+RgbImage occupancy_image(const Grid<std::int8_t, 2>& ros_cells) {
+  return grid_image(ros_cells, [](std::int8_t v) {
+    const auto g = static_cast<std::uint8_t>(v < 0 ? 205 : 255 - 2.55 * std::min<int>(v, 100));
+    return Rgb{g, g, g};
+  });
+}
+
 }  // namespace vdtnav::viz

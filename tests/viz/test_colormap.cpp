@@ -112,5 +112,23 @@ TEST(OccupancyImage, OccupiedBlackFreeWhiteWorldYUp) {
   EXPECT_EQ(img.at(1, 1), kWhite);
 }
 
+TEST(OccupancyImage, RosCellsAsMapServerDrawsThem) {
+  // -1 unknown grey 205; 0..100 from white to black, 255 - 2.55 v; above 100 black; world y up.
+  Grid<std::int8_t, 2> cells(Eigen::Vector2i(4, 2), GridFrame<2>(0.05, Eigen::Vector2d::Zero()));
+  cells(Eigen::Vector2i(0, 0)) = -1;
+  cells(Eigen::Vector2i(1, 0)) = 0;
+  cells(Eigen::Vector2i(2, 0)) = 100;
+  cells(Eigen::Vector2i(3, 0)) = 50;
+  cells(Eigen::Vector2i(0, 1)) = 127;
+  const RgbImage img = occupancy_image(cells);
+  ASSERT_EQ(img.width, 4);
+  ASSERT_EQ(img.height, 2);
+  EXPECT_EQ(img.at(0, 1), (Rgb{205, 205, 205}));  // row y = 0 at the bottom
+  EXPECT_EQ(img.at(1, 1), kWhite);
+  EXPECT_EQ(img.at(2, 1), kBlack);
+  EXPECT_EQ(img.at(3, 1), (Rgb{127, 127, 127}));  // 255 - 127.5, truncated
+  EXPECT_EQ(img.at(0, 0), kBlack);
+}
+
 }  // namespace
 }  // namespace vdtnav::viz

@@ -9,26 +9,15 @@ namespace vdtnav::tools {
 
 namespace {
 
-// ROS cells as map_server draws them: occupied black, free white, unknown grey; row 0 at the top.
-viz::RgbImage ros_image(const Grid<std::int8_t, 2>& cells) {
-  const int w = cells.size().x(), h = cells.size().y();
-  viz::RgbImage img(w, h);
-  for (int j = 0; j < h; ++j) {
-    for (int i = 0; i < w; ++i) {
-      const int v = cells(Eigen::Vector2i(i, j));
-      const std::uint8_t g = v < 0 ? 205 : static_cast<std::uint8_t>(255 - 2.55 * std::min(v, 100));
-      img.set(i, h - 1 - j, {g, g, g});
-    }
-  }
-  return img;
-}
-
 void map_background(viz::Axes& ax, const RosMap& map) {
   const auto& f = map.cells.frame();
   const double x0 = f.origin().x(), y0 = f.origin().y();
   const double x1 = x0 + map.cells.size().x() * f.resolution();
   const double y1 = y0 + map.cells.size().y() * f.resolution();
-  ax.image(ros_image(map.cells), x0, x1, y0, y1).equal_aspect().xlabel("x [m]").ylabel("y [m]");
+  ax.image(viz::occupancy_image(map.cells), x0, x1, y0, y1)
+      .equal_aspect()
+      .xlabel("x [m]")
+      .ylabel("y [m]");
 }
 
 }  // namespace

@@ -36,4 +36,9 @@ inline constexpr Rgb kNanColor{150, 150, 150};
 /// \brief One pixel per cell: occupied (non-zero) black, free white; row y = 0 at the bottom.
 [[nodiscard]] RgbImage occupancy_image(const Grid<std::uint8_t, 2>& occupancy);
 
+/// \brief ROS occupancy cells (-1 unknown, 0..100 occupied percent) as map_server draws them:
+/// unknown grey (205), then 255 - 2.55 v from free white to occupied black; row y = 0 at the
+/// bottom.
+[[nodiscard]] RgbImage occupancy_image(const Grid<std::int8_t, 2>& ros_cells);
+
 }  // namespace vdtnav::viz
