@@ -21,11 +21,7 @@ class MultiStartReacquisition final : public Reacquisition<3> {
   ScanAgreement weigh(const ObservationSet3& observations, LocalizationResult3& r) override {
     // The tracker's explained fraction (at its solution; 0 when no solve converged): every
     // reading the map does not explain contradicts the pose.
-    ScanAgreement a;
-    a.readings = static_cast<int>(observations.size());
-    a.explained = static_cast<int>(std::lround(r.explained * a.readings));
-    a.contradicted = a.readings - a.explained;
-    return a;
+    return ScanAgreement::all_judged(static_cast<int>(observations.size()), r.explained);
   }
 
   std::optional<Adopted> reacquire(const OdometryStep3&, const ObservationSet3&,

@@ -294,11 +294,7 @@ class FindsAPose3 final : public Reacquisition<3> {
  public:
   explicit FindsAPose3(const Pose3& found) : found_(found) {}
   ScanAgreement weigh(const ObservationSet3& observations, LocalizationResult3& r) override {
-    ScanAgreement a;
-    a.readings = static_cast<int>(observations.size());
-    a.explained = static_cast<int>(std::lround(r.explained * a.readings));
-    a.contradicted = a.readings - a.explained;
-    return a;
+    return ScanAgreement::all_judged(static_cast<int>(observations.size()), r.explained);
   }
   std::optional<Adopted> reacquire(const OdometryStep3&, const ObservationSet3&,
                                    const LostDetector& detector, bool wrong,

@@ -120,11 +120,11 @@ struct LostWatchOptions {
 template <int Dim>
 class RecoveringLocalizerT : public TrackerT<Dim> {
  public:
-  using Pose = typename PoseTraits<Dim>::Pose;
-  using Covariance = typename PoseTraits<Dim>::Covariance;
-  using Odometry = typename OdometryTraits<Dim>::Step;
-  using Observations = ObservationSet<Dim>;
-  using Result = LocalizationResultT<Dim>;
+  using typename LocalizerT<Dim>::Pose;
+  using typename LocalizerT<Dim>::Covariance;
+  using typename LocalizerT<Dim>::Odometry;
+  using typename LocalizerT<Dim>::Observations;
+  using typename LocalizerT<Dim>::Result;
 
   /// \throws ConfigError for a null tracker or reacquisition, or bad options.
   RecoveringLocalizerT(std::unique_ptr<TrackerT<Dim>> tracker,

@@ -24,6 +24,7 @@
 /// march along the beam in steps of the distance it may safely skip), so that the test sees the
 /// surfaces the localizer matches against.
 
+#include <cmath>
 #include <cstddef>
 
 #include "vdtnav/core/pose2.hpp"
@@ -65,6 +66,16 @@ struct ScanAgreement {
   /// \return C / (E + C) (0 when the map judges none).
   [[nodiscard]] double contradiction() const noexcept {
     return judged() > 0 ? static_cast<double>(contradicted) / judged() : 0.0;
+  }
+  /// \return `readings` readings of which the fraction `explained` is explained and every other
+  /// one contradicted: a map without unknown space (the 3D maps here), where what the map does not
+  /// explain it contradicts.
+  [[nodiscard]] static ScanAgreement all_judged(int readings, double explained) noexcept {
+    ScanAgreement a;
+    a.readings = readings;
+    a.explained = static_cast<int>(std::lround(explained * readings));
+    a.contradicted = readings - a.explained;
+    return a;
   }
   ScanAgreement& operator+=(const ScanAgreement& o) noexcept {
     readings += o.readings;
