@@ -143,8 +143,6 @@ class RecoveringLocalizerT : public TrackerT<Dim> {
   [[nodiscard]] const ScanAgreement& agreement() const noexcept { return agreement_; }
 
  protected:
-  [[nodiscard]] TrackerT<Dim>& tracker() noexcept { return *tracker_; }
-  [[nodiscard]] Reacquisition<Dim>& reacquisition() noexcept { return *reacquisition_; }
   [[nodiscard]] const Reacquisition<Dim>& reacquisition() const noexcept { return *reacquisition_; }
 
  private:
