@@ -13,8 +13,6 @@
 namespace vdtnav {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-
 struct Fixture {
   OccupancyGrid<2> occupancy;
   Pose2 pose = Pose2::Zero();

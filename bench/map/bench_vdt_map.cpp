@@ -18,8 +18,6 @@
 namespace vdtnav {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-
 template <int Dim>
 struct Fixture {
   using Vector = typename SpaceTraits<Dim>::Vector;

@@ -22,8 +22,6 @@ using namespace vdtnav;
 using Eigen::Vector2d;
 using Clock = std::chrono::steady_clock;
 
-constexpr double kPi = 3.14159265358979323846;
-
 /// A dataset: the world (also the map: thin walls through its occupied cells' centres), the drive,
 /// the sensor.
 struct Dataset {

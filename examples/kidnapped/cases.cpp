@@ -22,11 +22,7 @@ namespace study {
 
 using namespace vdtnav;
 
-namespace {
-
-constexpr double kPi = 3.14159265358979323846;
-
-}  // namespace
+namespace {}  // namespace
 
 std::vector<Case> load_cases(const std::string& data, unsigned seed, int trials) {
   std::vector<Case> cases;

@@ -16,11 +16,7 @@ namespace lidar3d {
 
 using namespace vdtnav;
 
-namespace {
-
-constexpr double kPi = 3.14159265358979323846;
-
-}  // namespace
+namespace {}  // namespace
 
 OccupancyGrid<3> load_world(const std::string& map_path, unsigned seed, std::string* world_name) {
   OccupancyGrid<3> world;

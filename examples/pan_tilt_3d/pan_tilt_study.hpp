@@ -24,8 +24,6 @@ namespace pan_tilt_study {
 using namespace vdtnav;
 using Clock = std::chrono::steady_clock;
 
-constexpr double kPi = 3.14159265358979323846;
-
 /// Table 3.4: the initial guess is off by +dt in x, y, z and +dr in roll, pitch and yaw.
 struct Scenario {
   const char* name;

@@ -17,8 +17,6 @@
 namespace vdtnav::uav_camera {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-
 // Grey levels of the scene (luma of what a camera sees there): dark asphalt, mid green grass,
 // white paint. The asphalt/grass step is a strong edge, so it is part of the marking map.
 constexpr double kAsphalt = 72.0;

@@ -11,7 +11,6 @@
 namespace vdtnav::uav_camera {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kGravity = 9.80665;  // m/s^2
 
 // A closed polyline parameterised by arc length.

@@ -14,7 +14,6 @@
 namespace vdtnav {
 
 namespace {
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 }  // namespace
 

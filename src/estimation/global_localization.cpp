@@ -8,13 +8,13 @@
 #include <random>
 
 #include "vdtnav/core/error.hpp"
+#include "vdtnav/core/pose2.hpp"
 #include "vdtnav/estimation/guess_search.hpp"
 
 namespace vdtnav {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 using Clock = std::chrono::steady_clock;
 
 double since(Clock::time_point t0) {

@@ -15,7 +15,6 @@
 namespace vdtnav {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 /// amcl: below 1 cm of translation, the heading of the translation (rot1) is meaningless.
 constexpr double kMinTransForHeading = 0.01;

@@ -21,8 +21,6 @@
 namespace vdtnav {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-
 // ---------------------------------------------------------------- reading the file
 
 /// The whole file as bytes, gunzipped when it starts with the gzip magic 1f 8b.

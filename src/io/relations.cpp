@@ -11,28 +11,21 @@ namespace vdtnav {
 namespace {
 
 constexpr double kPlanarTolerance = 1e-9;
-constexpr std::size_t kFields = 8;
-constexpr std::array<const char*, kFields> kNames = {"t1", "t2",   "x",     "y",
-                                                     "z",  "roll", "pitch", "yaw"};
+constexpr std::size_t kRelationFields = 8;
+constexpr std::array<const char*, kRelationFields> kRelationNames = {"t1", "t2",   "x",     "y",
+                                                                     "z",  "roll", "pitch", "yaw"};
 
 /// \return an empty string and the relation, or what was expected.
-std::string parse_line(std::string_view line, Relation& rel) {
+std::string parse_relation_line(std::string_view line, Relation& rel) {
   std::vector<std::string_view> f;
-  io_text::split_fields(line, f);
-  const std::size_t n = f.size();
-  if (n != kFields) {
-    return "expected 8 fields (t1 t2 x y z roll pitch yaw), found " +
-           (n > kFields ? std::string("more than 8") : std::to_string(n));
-  }
-  std::array<double, kFields> v{};
-  for (std::size_t k = 0; k < kFields; ++k) {
-    if (!io_text::parse_double(f[k], v[k]) || !std::isfinite(v[k])) {
-      return std::string(kNames[k]) + ": expected a finite number, got '" + std::string(f[k]) + "'";
-    }
+  std::array<double, kRelationFields> v{};
+  if (std::string error = io_text::parse_finite_fields(line, kRelationNames, f, v);
+      !error.empty()) {
+    return error;
   }
   for (std::size_t k = 4; k < 7; ++k) {
     if (std::abs(v[k]) > kPlanarTolerance) {
-      return std::string(kNames[k]) +
+      return std::string(kRelationNames[k]) +
              ": expected 0 (a planar relation: z, roll and pitch 0 within 1e-9), got '" +
              std::string(f[k]) + "'";
     }
@@ -47,8 +40,8 @@ std::string parse_line(std::string_view line, Relation& rel) {
 
 RelationsFile load_relations(const std::string& path, const RelationsOptions& options) {
   RelationsFile file;
-  io_text::read_data_lines(path, "relations", options.skip_malformed, parse_line, file.relations,
-                           file.malformed_lines);
+  io_text::read_data_lines(path, "relations", options.skip_malformed, parse_relation_line,
+                           file.relations, file.malformed_lines);
   return file;
 }
 

@@ -1,4 +1,5 @@
 #include "vdtnav/io/sparse_vdt_map_file.hpp"
+#include "text_fields.hpp"
 
 #include <fcntl.h>
 #include <sys/mman.h>
@@ -26,7 +27,7 @@ static_assert(__BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__,
 
 namespace fs = std::filesystem;
 
-constexpr char kMagic[8] = {'V', 'D', 'T', 'N', 'A', 'V', 'S', 'P'};
+constexpr char kSparseMagic[8] = {'V', 'D', 'T', 'N', 'A', 'V', 'S', 'P'};
 constexpr std::uint64_t kHeaderBytes = 112;
 constexpr std::uint64_t kPage = 4096;
 
@@ -57,12 +58,6 @@ std::uint64_t product(const Eigen::Vector3i& n, int add = 0) {
          static_cast<std::uint64_t>(n.z() + add);
 }
 
-std::string hex(std::uint32_t v) {
-  char buf[16];
-  std::snprintf(buf, sizeof(buf), "0x%08x", v);
-  return buf;
-}
-
 /// The body's layout from the sizes.
 struct Layout {
   std::uint64_t coarse, index, payload, end;
@@ -85,7 +80,7 @@ void save_sparse_vdt_map(const std::string& path, const SparseVdtMap3& map) {
   const SparseVdtMap3::Bricks& b = map.bricks();
   const Layout l = layout(map.size(), b.num_bricks);
   std::vector<unsigned char> head(kHeaderBytes, 0);
-  std::memcpy(head.data(), kMagic, 8);
+  std::memcpy(head.data(), kSparseMagic, 8);
   put<std::uint32_t>(head, 8, kSparseVdtMapFileVersion);
   put<std::uint32_t>(head, 12, SparseVdtMap3::kBrick);
   for (int d = 0; d < 3; ++d) put<std::int64_t>(head, 16 + 8 * d, map.size()[d]);
@@ -155,7 +150,7 @@ SparseVdtMap3 load_sparse_vdt_map(const std::string& path, bool verify_payload) 
       addr, [found](const void* p) { ::munmap(const_cast<void*>(p), found); });
   const auto* h = static_cast<const unsigned char*>(addr);
 
-  if (found < 8 || std::memcmp(h, kMagic, 8) != 0) {
+  if (found < 8 || std::memcmp(h, kSparseMagic, 8) != 0) {
     fail("not a sparse vdtnav map file (it does not start with \"VDTNAVSP\")");
   }
   if (found < kHeaderBytes) {
@@ -169,8 +164,8 @@ SparseVdtMap3 load_sparse_vdt_map(const std::string& path, bool verify_payload) 
   }
   const std::uint32_t head_crc = crc_of(h, 104), stored_head = get<std::uint32_t>(h, 104);
   if (head_crc != stored_head) {
-    fail("header checksum mismatch: stored CRC-32 " + hex(stored_head) + ", computed " +
-         hex(head_crc) + " (the file is corrupted)");
+    fail("header checksum mismatch: stored CRC-32 " + io_text::hex(stored_head) + ", computed " +
+         io_text::hex(head_crc) + " (the file is corrupted)");
   }
   if (get<std::uint32_t>(h, 12) != SparseVdtMap3::kBrick) {
     fail("unsupported brick edge " + std::to_string(get<std::uint32_t>(h, 12)) + " (expected 8)");
@@ -212,8 +207,8 @@ SparseVdtMap3 load_sparse_vdt_map(const std::string& path, bool verify_payload) 
     const std::uint32_t body = crc_of(h + kHeaderBytes, found - kHeaderBytes);
     const auto stored = get<std::uint32_t>(h, 108);
     if (body != stored) {
-      fail("checksum mismatch: stored CRC-32 " + hex(stored) + ", computed " + hex(body) +
-           " (the file is corrupted)");
+      fail("checksum mismatch: stored CRC-32 " + io_text::hex(stored) + ", computed " +
+           io_text::hex(body) + " (the file is corrupted)");
     }
   }
 

@@ -1,10 +1,15 @@
 #pragma once
 /// \file
 /// \brief Private to vdtnav::io: the whitespace-separated text formats (CARMEN logs, relations,
-/// TUM trajectories) share their field splitting, number parsing, line loop and file writing.
+/// TUM trajectories) share their field splitting, number parsing, line loop and file writing
+/// (and the binary map files their checksums' hex).
 
+#include <array>
 #include <cerrno>
 #include <charconv>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <string>
@@ -33,6 +38,34 @@ inline bool parse_double(std::string_view s, double& v) {
   if (s.size() > 1 && s[0] == '+' && s[1] != '-') s.remove_prefix(1);
   const auto r = std::from_chars(s.data(), s.data() + s.size(), v);
   return !s.empty() && r.ec == std::errc() && r.ptr == s.data() + s.size();
+}
+
+/// \brief Splits `line` into exactly N finite numbers named `names` (TUM poses, relations).
+/// \return an empty string with `v` and the fields `f`, or what was expected.
+template <std::size_t N>
+std::string parse_finite_fields(std::string_view line, const std::array<const char*, N>& names,
+                                std::vector<std::string_view>& f, std::array<double, N>& v) {
+  split_fields(line, f);
+  const std::size_t n = f.size();
+  if (n != N) {
+    std::string listed;
+    for (const char* name : names) listed += (listed.empty() ? "" : " ") + std::string(name);
+    return "expected " + std::to_string(N) + " fields (" + listed + "), found " +
+           (n > N ? "more than " + std::to_string(N) : std::to_string(n));
+  }
+  for (std::size_t k = 0; k < N; ++k) {
+    if (!parse_double(f[k], v[k]) || !std::isfinite(v[k])) {
+      return std::string(names[k]) + ": expected a finite number, got '" + std::string(f[k]) + "'";
+    }
+  }
+  return {};
+}
+
+/// A 32-bit word as 0x%08x, for the binary formats' checksum messages.
+inline std::string hex(std::uint32_t v) {
+  char buf[16];
+  std::snprintf(buf, sizeof(buf), "0x%08x", v);
+  return buf;
 }
 
 /// Shortest fixed-point text that reads back as exactly x.

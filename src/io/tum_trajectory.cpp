@@ -11,23 +11,16 @@
 namespace vdtnav {
 namespace {
 
-constexpr std::size_t kFields = 8;
-constexpr std::array<const char*, kFields> kNames = {"t", "x", "y", "z", "qx", "qy", "qz", "qw"};
+constexpr std::size_t kTumFields = 8;
+constexpr std::array<const char*, kTumFields> kTumNames = {"t",  "x",  "y",  "z",
+                                                           "qx", "qy", "qz", "qw"};
 
 /// \return an empty string and the pose, or what was expected.
-std::string parse_line(std::string_view line, StampedPose3& out) {
+std::string parse_tum_line(std::string_view line, StampedPose3& out) {
   std::vector<std::string_view> f;
-  io_text::split_fields(line, f);
-  const std::size_t n = f.size();
-  if (n != kFields) {
-    return "expected 8 fields (t x y z qx qy qz qw), found " +
-           (n > kFields ? std::string("more than 8") : std::to_string(n));
-  }
-  std::array<double, kFields> v{};
-  for (std::size_t k = 0; k < kFields; ++k) {
-    if (!io_text::parse_double(f[k], v[k]) || !std::isfinite(v[k])) {
-      return std::string(kNames[k]) + ": expected a finite number, got '" + std::string(f[k]) + "'";
-    }
+  std::array<double, kTumFields> v{};
+  if (std::string error = io_text::parse_finite_fields(line, kTumNames, f, v); !error.empty()) {
+    return error;
   }
   Eigen::Quaterniond q(v[7], v[4], v[5], v[6]);  // Eigen's constructor takes w first
   const double norm = q.norm();
@@ -62,8 +55,8 @@ std::string line_of(double t, const Eigen::Vector3d& p, Eigen::Quaterniond q) {
 
 TumTrajectory load_tum_trajectory(const std::string& path, const TumOptions& options) {
   TumTrajectory file;
-  io_text::read_data_lines(path, "TUM trajectory", options.skip_malformed, parse_line, file.poses,
-                           file.malformed_lines);
+  io_text::read_data_lines(path, "TUM trajectory", options.skip_malformed, parse_tum_line,
+                           file.poses, file.malformed_lines);
   return file;
 }
 

@@ -1,4 +1,5 @@
 #include "vdtnav/io/vdt_map_file.hpp"
+#include "text_fields.hpp"
 
 #include <algorithm>
 #include <cerrno>
@@ -116,12 +117,6 @@ class Reader {
   const std::string& path_;
   std::uint32_t crc_ = static_cast<std::uint32_t>(crc32(0L, Z_NULL, 0));
 };
-
-std::string hex(std::uint32_t v) {
-  char buf[16];
-  std::snprintf(buf, sizeof(buf), "0x%08x", v);
-  return buf;
-}
 
 }  // namespace
 
@@ -246,8 +241,8 @@ VdtMap<Dim> load_vdt_map(const std::string& path) {
   const std::uint32_t computed = r.crc();
   const auto stored = static_cast<std::uint32_t>(r.le(4));
   if (stored != computed) {
-    fail("checksum mismatch: stored CRC-32 " + hex(stored) + ", computed " + hex(computed) +
-         " (the file is corrupted)");
+    fail("checksum mismatch: stored CRC-32 " + io_text::hex(stored) + ", computed " +
+         io_text::hex(computed) + " (the file is corrupted)");
   }
   const std::vector<std::int32_t>& features = nearest.values();
   for (std::size_t c = 0; c < features.size(); ++c) {

@@ -30,7 +30,6 @@ Pose2 unicycle_increment(double v, double w, double dt) {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kRouteSpacing = 0.025;     // metres between route points
 constexpr double kArcSampleStep = 0.05;     // metres between clearance checks along an arc
 constexpr double kStopTolerance = 0.1;      // metres: a stop point counts as reached

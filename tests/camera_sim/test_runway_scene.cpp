@@ -18,8 +18,6 @@
 namespace vdtnav::uav_camera {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-
 RunwaySceneOptions small_margin_options() {
   RunwaySceneOptions o;
   o.grass_margin = 4.0;  // keeps the texture small; the geometry is the default one

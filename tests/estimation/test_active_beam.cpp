@@ -25,7 +25,6 @@ namespace vdtnav {
 namespace {
 
 using test::world;
-constexpr double kPi = 3.14159265358979323846;
 
 TEST(ActiveBeam, HypotheticalReadingEqualsARayCastInTheWorld) {
   RotatingBeamOptions beam = RotatingBeamOptions::table_4_3();  // up to 30 m

@@ -19,8 +19,6 @@
 namespace vdtnav {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-
 /// A scan of `grid` from `pose`: 270 degrees, `beams` readings, ray cast to cell centres.
 ScanPoints scan_in(const OccupancyGrid<2>& grid, const Pose2& pose, double sigma, std::mt19937& rng,
                    int beams = 541) {

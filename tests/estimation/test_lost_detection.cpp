@@ -25,8 +25,6 @@
 namespace vdtnav {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-
 /// A scan of 200 readings: `judged` of them judged by the map, a share `c` of those contradicted.
 ScanAgreement scan(double c, double judged = 0.9) {
   ScanAgreement a;

@@ -15,8 +15,6 @@
 namespace vdtnav {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-
 struct Maps {
   sim::Room3d room = [] {
     sim::Room3dOptions ro;

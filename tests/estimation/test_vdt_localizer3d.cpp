@@ -23,8 +23,6 @@
 namespace vdtnav {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-
 struct Drive {
   sim::Room3d room;
   std::unique_ptr<VdtMap3> map;

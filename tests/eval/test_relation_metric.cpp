@@ -21,8 +21,6 @@
 namespace vdtnav::eval {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-
 /// 3x3 homogeneous matrix of a pose (independent of pose2.hpp's compose/between).
 Eigen::Matrix3d matrix(const Pose2& p) {
   Eigen::Matrix3d m = Eigen::Matrix3d::Identity();

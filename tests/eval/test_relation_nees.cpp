@@ -19,8 +19,6 @@
 namespace vdtnav::eval {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-
 /// ∂ between(from, to) / ∂(from or to) by central differences (angle differences wrapped).
 Eigen::Matrix3d numeric_jacobian(const Pose2& from, const Pose2& to, bool wrt_from) {
   constexpr double h = 1e-6;

@@ -14,8 +14,6 @@
 namespace vdtnav::eval {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-
 /// A smooth looping reference: a lissajous-like path, yaw along the velocity, at rate_hz.
 Trajectory2 reference_path(int n, double rate_hz = 10.0) {
   Trajectory2 traj;

@@ -26,7 +26,6 @@ using test::tmp_dir;
 using test::write_file;
 
 namespace fs = std::filesystem;
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kDeg = kPi / 180.0;
 
 const std::string kIntel = std::string(VDTNAV_DATA_DIR) + "/intel-lab/intel.gfs.log.gz";

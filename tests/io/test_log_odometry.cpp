@@ -13,8 +13,6 @@
 namespace vdtnav {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-
 CarmenOdometry odom(double t, const Pose2& p, std::size_t line) {
   CarmenOdometry o;
   o.time = t;

@@ -21,7 +21,6 @@ using test::tmp_dir;
 using test::write_file;
 
 namespace fs = std::filesystem;
-constexpr double kPi = 3.14159265358979323846;
 
 const std::string kIntelTable =
     std::string(VDTNAV_DATA_DIR) + "/intel-lab/intel_910_odom_vs_corrected.txt";

@@ -26,7 +26,6 @@
 namespace vdtnav::mapping {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
 /// A scan with the given ranges and beam angles (sensor frame).

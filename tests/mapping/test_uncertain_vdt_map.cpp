@@ -16,8 +16,6 @@
 namespace vdtnav::mapping {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-
 sim::LidarOptions lidar_180() {
   sim::LidarOptions l;
   l.fov = kPi;

@@ -15,8 +15,6 @@
 namespace vdtnav {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-
 /// A calibration with a rotated, translated mount and non-zero offsets.
 PanTiltCalibration random_calibration(std::mt19937& rng) {
   std::uniform_real_distribution<double> u(-1.0, 1.0);

@@ -13,7 +13,6 @@ namespace vdtnav {
 namespace {
 
 using test::BoxRoom;
-constexpr double kPi = 3.14159265358979323846;
 
 TEST(Lidar3dSimulator, RaysHitTheRoomsPlanesWhereTheOracleSays) {
   const BoxRoom room(6.0, 5.0, 3.0, true);

@@ -23,8 +23,6 @@
 namespace vdtnav::sim {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-
 /// A planned tour on the generated floor plan and the first `n` samples of its trajectory.
 struct Fixture {
   FloorPlan plan;

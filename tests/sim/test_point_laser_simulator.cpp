@@ -18,7 +18,6 @@
 namespace vdtnav::sim {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kRes = 0.05;
 

@@ -19,8 +19,6 @@
 namespace vdtnav::sim {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-
 const Room3d& default_room() {
   static const Room3d room = generate_room3d({});
   return room;

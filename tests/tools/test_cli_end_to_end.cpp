@@ -29,7 +29,6 @@
 namespace vdtnav {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr int kBeams = 361;     // FLASER: n beams over 180 degrees, pi / n apart
 constexpr double kT0 = 1000.0;  // the log's time base
 

@@ -14,8 +14,6 @@
 namespace vdtnav::tools {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-
 /// The message of the ConfigError that `f` throws ("" if it throws none).
 template <class F>
 std::string config_error(F f) {

@@ -13,8 +13,6 @@
 namespace vdtnav::viz {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-
 std::string tmp_path(const std::string& name) {
   std::filesystem::create_directories(VDTNAV_TEST_TMP);
   return std::string(VDTNAV_TEST_TMP) + "/" + name;

@@ -11,9 +11,10 @@ namespace vdtnav {
 
 using Pose2 = Eigen::Vector3d;  ///< (x [m], y [m], yaw [rad])
 
+inline constexpr double kPi = 3.14159265358979323846;  ///< pi, as a double
+
 /// \return angle wrapped to (-pi, pi].
 [[nodiscard]] inline double wrap_angle(double a) {
-  constexpr double kPi = 3.14159265358979323846;
   a = std::remainder(a, 2.0 * kPi);  // [-pi, pi]
   return a <= -kPi ? a + 2.0 * kPi : a;
 }

@@ -29,8 +29,6 @@ namespace {
 using camera::CameraCalibration;
 using camera::PinholeCamera;
 
-constexpr double kPi = 3.14159265358979323846;
-
 CameraCalibration test_calibration() {
   CameraCalibration c;
   c.width = 640;

@@ -18,7 +18,6 @@ namespace {
 constexpr std::int64_t kSecond = 1000000000;
 /// Stamps start here: tf2 reads a stamp of 0 as "the latest".
 constexpr std::int64_t kT0 = 100 * kSecond;
-constexpr double kPi = 3.14159265358979323846;
 
 /// A 12 m x 8 m room, 5 cm cells, with three boxes that make every pose unique.
 RosMap room() {

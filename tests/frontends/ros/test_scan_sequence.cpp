@@ -14,7 +14,6 @@ namespace vdtnav::ros {
 namespace {
 
 constexpr std::int64_t kSecond = 1000000000;
-constexpr double kPi = 3.14159265358979323846;
 
 TEST(ToLaserScan, BeamsOfANegativeIncrementLandWhereTheMessageSaysAndInvalidOnesAreDropped) {
   LaserScanMsg m;

@@ -15,7 +15,6 @@
 namespace vdtnav::uav_camera {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kDeg = kPi / 180.0;
 
 CameraCalibration wide_lens(bool distorted = true) {

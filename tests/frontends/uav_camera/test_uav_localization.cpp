@@ -28,7 +28,6 @@
 namespace vdtnav::uav_camera {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kDeg = kPi / 180.0;
 
 /// The example's camera: 640 x 480, 60 degree horizontal field of view, mild barrel distortion.
