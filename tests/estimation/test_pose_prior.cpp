@@ -16,13 +16,21 @@
 namespace vdtnav {
 namespace {
 
+/// A map of `size` cells at `resolution` whose occupied cells are those with last index `layer`:
+/// a wall along x in 2D, a floor in 3D.
+template <int Dim>
+VdtMap<Dim> one_plane_map(const Eigen::Matrix<int, Dim, 1>& size, double resolution, int layer) {
+  OccupancyGrid<Dim> occ(size, GridFrame<Dim>(resolution, Eigen::Matrix<double, Dim, 1>::Zero()),
+                         0);
+  for (std::size_t k = 0; k < occ.num_cells(); ++k) {
+    occ[k] = occ.index_of(static_cast<std::ptrdiff_t>(k))[Dim - 1] == layer ? 1 : 0;
+  }
+  return VdtMap<Dim>::build(occ);
+}
+
 /// A 10 m x 3 m map at 0.05 m with one wall along x at y = 1.025 m (row 20).
 const VdtMap2& wall_map() {
-  static const VdtMap2 map = [] {
-    OccupancyGrid<2> occ(Eigen::Vector2i(200, 60), GridFrame<2>(0.05, Eigen::Vector2d::Zero()), 0);
-    for (int x = 0; x < 200; ++x) occ(Eigen::Vector2i(x, 20)) = 1;
-    return VdtMap2::build(occ);
-  }();
+  static const VdtMap2 map = one_plane_map<2>(Eigen::Vector2i(200, 60), 0.05, 20);
   return map;
 }
 
@@ -132,13 +140,7 @@ TEST(PosePriorLocalizer, AlongAWallTheEstimateFollowsTheOdometryWithItsUncertain
 
 /// A 6 m x 6 m x 2 m map at 0.1 m with one floor: the slab of cells centred at z = 0.25 m.
 const VdtMap3& floor_map() {
-  static const VdtMap3 map = [] {
-    OccupancyGrid<3> occ(Eigen::Vector3i(60, 60, 20), GridFrame<3>(0.1, Eigen::Vector3d::Zero()),
-                         0);
-    for (int x = 0; x < 60; ++x)
-      for (int y = 0; y < 60; ++y) occ(Eigen::Vector3i(x, y, 2)) = 1;
-    return VdtMap3::build(occ);
-  }();
+  static const VdtMap3 map = one_plane_map<3>(Eigen::Vector3i(60, 60, 20), 0.1, 2);
   return map;
 }
 
