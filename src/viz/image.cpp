@@ -1,9 +1,8 @@
 #include "vdtnav/viz/image.hpp"
 
+#include <stb/stb_image_write.h>
 #include <algorithm>
 #include <cmath>
-#include <fstream>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "raster.hpp"
@@ -343,13 +342,9 @@ void draw_scaled(RgbImage& dst, const RgbImage& src, double x0, double y0, doubl
 
 void write_png(const std::string& path, const RgbImage& img) {
   VDTNAV_CHECK(img.width > 0 && img.height > 0, "cannot write an empty image to " + path);
-  cv::Mat bgr;
-  cv::cvtColor(detail::as_const_mat(img), bgr, cv::COLOR_RGB2BGR);
-  std::vector<std::uint8_t> png;
-  if (!cv::imencode(".png", bgr, png)) throw IoError("cannot encode PNG file " + path);
-  std::ofstream out(path, std::ios::binary);
-  out.write(reinterpret_cast<const char*>(png.data()), static_cast<std::streamsize>(png.size()));
-  if (!out.flush()) throw IoError("cannot write PNG file " + path);
+  if (stbi_write_png(path.c_str(), img.width, img.height, 3, img.rgb.data(), img.width * 3) == 0) {
+    throw IoError("cannot write PNG file " + path);
+  }
 }
 
 }  // namespace vdtnav::viz
