@@ -8,3 +8,10 @@ function(vdtnav_target_options target)
     target_link_options(${target} PRIVATE -fsanitize=address,undefined)
   endif()
 endfunction()
+
+# The library's components and the CLI: unity build when VDTNAV_UNITY_BUILD (top CMakeLists).
+function(vdtnav_unity_build target)
+  if(VDTNAV_UNITY_BUILD)
+    set_target_properties(${target} PROPERTIES UNITY_BUILD ON UNITY_BUILD_BATCH_SIZE 8)
+  endif()
+endfunction()
