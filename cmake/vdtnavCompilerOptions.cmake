@@ -15,3 +15,14 @@ function(vdtnav_unity_build target)
     set_target_properties(${target} PROPERTIES UNITY_BUILD ON UNITY_BUILD_BATCH_SIZE 8)
   endif()
 endfunction()
+
+# The component libraries are position-independent code, so that the Python module (a shared
+# object, python/) can link them; -fno-semantic-interposition keeps GCC inlining calls between
+# the functions of one library as it does without -fPIC (nothing interposes them: they are linked
+# statically).
+function(vdtnav_library_options target)
+  set_target_properties(${target} PROPERTIES POSITION_INDEPENDENT_CODE ON)
+  if(CMAKE_CXX_COMPILER_ID STREQUAL "GNU")
+    target_compile_options(${target} PRIVATE -fno-semantic-interposition)
+  endif()
+endfunction()

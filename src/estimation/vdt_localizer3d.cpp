@@ -235,4 +235,18 @@ LocalizationResult3 VdtOptimizationLocalizer3::update(const OdometryStep3& odome
   return r;
 }
 
+LocalizationResult3 localize_from_guess(const VdtOptimizationLocalizer3& localizer,
+                                        const ObservationSet3& observations, const Pose3& guess) {
+  const VdtLocalizer3Options& o = localizer.options();
+  const VdtOptimizer3& optimizer = localizer.optimizer();
+  LocalizationResult3 r = o.multi_start.enabled
+                              ? solve_multi_start(optimizer, observations, guess, o.multi_start)
+                              : optimizer.solve(observations, guess);
+  r.explained =
+      explained_fraction(optimizer.sensor_model(), observations, r.pose, o.explained_distance);
+  if (r.status == LocalizationStatus::kConverged && r.explained < o.accept_fraction)
+    r.status = LocalizationStatus::kRefused;  // converged, not on this map's surfaces
+  return r;
+}
+
 }  // namespace vdtnav

@@ -306,13 +306,8 @@ void run_localize3d(const Localize3dArgs& a) {
     r.cloud_points = cloud_points;
     r.readings = obs.size();
     if (accepted == 0) {  // from --init (or the prediction while nothing was accepted)
-      r.result =
-          ms.enabled ? solve_multi_start(optimizer, obs, last, ms) : optimizer.solve(obs, last);
-      r.explained =
-          explained_fraction(optimizer.sensor_model(), obs, r.result.pose, lo.explained_distance);
-      if (r.result.status == LocalizationStatus::kConverged && r.explained < lo.accept_fraction)
-        r.result.status = LocalizationStatus::kRefused;  // converged, not on this map's surfaces
-      r.result.explained = r.explained;
+      r.result = localize_from_guess(tracker.tracker(), obs, last);
+      r.explained = r.result.explained;
       if (r.result.status == LocalizationStatus::kConverged)
         tracker.reset(r.result.pose, r.result.covariance);
       if (a.dof == 4 && r.result.has_covariance) {  // the held roll and pitch (the file comment)

@@ -138,4 +138,14 @@ class VdtOptimizationLocalizer3 final : public Localizer3D {
   Matrix6d covariance_ = Matrix6d::Zero();
 };
 
+/// \brief One cloud localized alone from a guess: what `vdtnav localize3d` runs on a single scan
+/// and on a sequence's scans until one is accepted (and the Python module's localize3d). The
+/// solve from `guess` (multi-start from it when localizer.options().multi_start is enabled), the
+/// fraction of the readings the map explains there (result.explained), and status kRefused when
+/// a converged solution explains less than accept_fraction: converged is not correct. The
+/// covariance is the solve's; in 4-DOF mode, with_held_attitude() makes it whole.
+[[nodiscard]] LocalizationResult3 localize_from_guess(const VdtOptimizationLocalizer3& localizer,
+                                                      const ObservationSet3& observations,
+                                                      const Pose3& guess);
+
 }  // namespace vdtnav
