@@ -15,7 +15,8 @@ packages=(build-essential cmake pkg-config git
           libpcl-dev liboctomap-dev
           librosbag-storage-dev libtf2-dev libsensor-msgs-dev libnav-msgs-dev libgeometry-msgs-dev
           libtf2-msgs-dev libfastcdr-dev libsqlite3-dev
-          libroscpp-dev libtf2-ros-dev libstd-srvs-dev libdiagnostic-msgs-dev ros-core)
+          libroscpp-dev libtf2-ros-dev libstd-srvs-dev libdiagnostic-msgs-dev ros-core
+          pybind11-dev python3-dev python3-numpy python3-pytest python3-matplotlib)
 if [ "$config" = fuzz ]; then packages+=(clang-14 libclang-rt-14-dev); fi
 
 missing=()
@@ -33,14 +34,15 @@ fi
 jobs="$(nproc)"
 case "$config" in
   release)
-    cmake -S . -B build/release -DCMAKE_BUILD_TYPE=Release -DVDTNAV_WERROR=ON >/dev/null
+    cmake -S . -B build/release -DCMAKE_BUILD_TYPE=Release -DVDTNAV_WERROR=ON -DVDTNAV_PYTHON=ON \
+      >/dev/null
     ;;
   asan)
     # Sanitized tests only: examples and benchmarks are exercised by the release build.
     # -O1 with line tables only: fast to compile, enough for sanitizer stack traces.
     cmake -S . -B build/asan -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS_DEBUG="-O1 -g1" \
       -DVDTNAV_WERROR=ON -DVDTNAV_SANITIZE=ON -DVDTNAV_BUILD_EXAMPLES=OFF \
-      -DVDTNAV_BUILD_BENCHMARKS=OFF -DVDTNAV_BUILD_FRONTENDS=OFF >/dev/null
+      -DVDTNAV_BUILD_BENCHMARKS=OFF -DVDTNAV_BUILD_FRONTENDS=OFF -DVDTNAV_PYTHON=OFF >/dev/null
     ;;
   fuzz)
     # The parsers' libFuzzer targets only: clang, the library with fuzzer coverage and sanitizers.
@@ -48,7 +50,7 @@ case "$config" in
       -DCMAKE_C_COMPILER=clang-14 -DCMAKE_CXX_FLAGS="-fsanitize=fuzzer-no-link" \
       -DCMAKE_CXX_FLAGS_DEBUG="-O1 -g1" -DVDTNAV_SANITIZE=ON -DVDTNAV_BUILD_FUZZERS=ON \
       -DVDTNAV_BUILD_TESTS=OFF -DVDTNAV_BUILD_EXAMPLES=OFF -DVDTNAV_BUILD_BENCHMARKS=OFF \
-      -DVDTNAV_BUILD_TOOLS=OFF -DVDTNAV_BUILD_FRONTENDS=OFF >/dev/null
+      -DVDTNAV_BUILD_TOOLS=OFF -DVDTNAV_BUILD_FRONTENDS=OFF -DVDTNAV_PYTHON=OFF >/dev/null
     shift || true
     targets=("${@:-vdtnav_fuzzers}")
     echo "[setup] building ${targets[*]} in build/fuzz with $jobs jobs"

@@ -77,6 +77,19 @@ if(ROS_NODE)
       "import sys, roslib.packages as p; f = p.find_node('vdtnav', 'vdtnav_localizer'); \
 print(f); sys.exit(0 if f and f[0].startswith('${prefix}') else 1)")
 endif()
+if(PYTHON_DIR)
+  # The Python module, installed into PREFIX/<the interpreter's platlib>: imported from the prefix
+  # with it on PYTHONPATH (not from the build tree), and working.
+  run(${CMAKE_COMMAND} -E env PYTHONPATH=${prefix}/${PYTHON_DIR} ${PYTHON_EXECUTABLE} -c
+      "import sys, numpy as np, vdtnav; f = vdtnav.__file__; print(f); \
+m = vdtnav.Map2(np.eye(8, dtype=bool), 0.5); \
+sys.exit(0 if f.startswith('${prefix}') and m.lookup(np.zeros((1, 2))).inside[0] else 1)")
+  foreach(f __init__.pyi py.typed)
+    if(NOT EXISTS ${prefix}/${PYTHON_DIR}/vdtnav/${f})
+      message(FATAL_ERROR "the Python package was installed without ${f}")
+    endif()
+  endforeach()
+endif()
 # A component that does not exist must make a REQUIRED find fail.
 execute_process(COMMAND ${CMAKE_COMMAND} -S ${CONSUMER_DIR} -B ${WORK_DIR}/consumer_bad
                 -DCMAKE_PREFIX_PATH=${prefix} -DASK_FOR_MISSING_COMPONENT=ON
