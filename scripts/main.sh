@@ -20,68 +20,68 @@ step() {
   step_start=$SECONDS
   echo "== $1"
 }
-step "[1/21] VDT maps: generated floor plan (embedded default)"
+step "[1/22] VDT maps: generated floor plan (embedded default)"
 "$bin/map_demo/vdtnav_map_demo" --out "$out/map_demo"
-step "[2/21] Table 3.3 study: five localizers on a simulated LiDAR run (generated floor plan)"
+step "[2/22] Table 3.3 study: five localizers on a simulated LiDAR run (generated floor plan)"
 "$bin/turtlebot_lidar/vdtnav_turtlebot_lidar" --out "$out/turtlebot_lidar"
-step "[3/21] Table 3.4 study: 6-DOF pan-tilt point-laser localization (generated 3D room)"
+step "[3/22] Table 3.4 study: 6-DOF pan-tilt point-laser localization (generated 3D room)"
 "$bin/pan_tilt_3d/vdtnav_pan_tilt_3d" --room --out "$out/pan_tilt_3d"
 if [ -x "$bin/uav_camera/vdtnav_uav_camera" ]; then
-  step "[4/21] UAV downward camera over a figure-of-eight road on a runway (generated)"
+  step "[4/22] UAV downward camera over a figure-of-eight road on a runway (generated)"
   "$bin/uav_camera/vdtnav_uav_camera" --out "$out/uav_camera"
 fi
 if [ -x "$bin/pmd_rgbd/vdtnav_pmd_rgbd" ]; then
-  step "[5/21] PMD with a rear RGB-D camera in a generated park: ground boundaries + bearings"
+  step "[5/22] PMD with a rear RGB-D camera in a generated park: ground boundaries + bearings"
   "$bin/pmd_rgbd/vdtnav_pmd_rgbd" --out "$out/pmd_rgbd"
 fi
-step "[6/21] Uncertain VDT maps (thesis ch. 5): Fig. 5.2, Experiments 1 and 2, localization on the fitted map (generated corridor)"
+step "[6/22] Uncertain VDT maps (thesis ch. 5): Fig. 5.2, Experiments 1 and 2, localization on the fitted map (generated corridor)"
 "$bin/uncertain_map/vdtnav_uncertain_map" --out "$out/uncertain_map"
-step "[7/21] Active localization with one rotating range beam (thesis ch. 4, generated floor plans)"
+step "[7/22] Active localization with one rotating range beam (thesis ch. 4, generated floor plans)"
 "$bin/active_beam/vdtnav_active_beam" --out "$out/active_beam"
-step "[8/21] Never lost: global localization from one scan (branch and bound vs random sampling) and the kidnapped robot (generated floor plan)"
+step "[8/22] Never lost: global localization from one scan (branch and bound vs random sampling) and the kidnapped robot (generated floor plan)"
 "$bin/kidnapped/vdtnav_kidnapped" --out "$out/kidnapped"
 if [ -x "$bin/lidar_3d/vdtnav_lidar_3d" ]; then
-  step "[9/21] 3D LiDAR: simulated VLP-16 scans on the generated 3D room (ray cast in its own voxels) and on the room rebuilt by map3d from a noisy mapping drive, 6-DOF and 4-DOF"
+  step "[9/22] 3D LiDAR: simulated VLP-16 scans on the generated 3D room (ray cast in its own voxels) and on the room rebuilt by map3d from a noisy mapping drive, 6-DOF and 4-DOF"
   "$bin/lidar_3d/vdtnav_lidar_3d" --out "$out/lidar_3d"
 fi
 if [ -d "$data" ]; then
-  step "[10/21] Active localization on the Willow Garage and fetch-office maps (real maps)"
+  step "[10/22] Active localization on the Willow Garage and fetch-office maps (real maps)"
   "$bin/active_beam/vdtnav_active_beam" --data "$data" --out "$out/active_beam_real"
-  step "[11/21] VDT maps: Player/Stage hospital section (real floor plan, $data)"
+  step "[11/22] VDT maps: Player/Stage hospital section (real floor plan, $data)"
   "$bin/map_demo/vdtnav_map_demo" --out "$out/map_demo_hospital" \
     --map "$data/stage_maps/hospital_section.png" --size 40x18
-  step "[12/21] Table 3.3 study on the hospital section (the thesis's environment)"
+  step "[12/22] Table 3.3 study on the hospital section (the thesis's environment)"
   "$bin/turtlebot_lidar/vdtnav_turtlebot_lidar" --out "$out/turtlebot_lidar_hospital" \
     --map "$data/stage_maps/hospital_section.png" --size 40x18
-  step "[13/21] Intel Research Lab: map from the last third, localize the first two (real log)"
+  step "[13/22] Intel Research Lab: map from the last third, localize the first two (real log)"
   "$bin/intel_lab/vdtnav_intel_lab" --data "$data" --out "$out/intel_lab"
   if [ -f "$data/3d/dll-catec/catec.bt" ] && [ -x "$bin/pan_tilt_3d/vdtnav_pan_tilt_3d" ]; then
-    step "[14/21] Table 3.4 study on the real CATEC OctoMap"
+    step "[14/22] Table 3.4 study on the real CATEC OctoMap"
     "$bin/pan_tilt_3d/vdtnav_pan_tilt_3d" --map "$data/3d/dll-catec/catec.bt" \
       --out "$out/pan_tilt_3d_catec"
   fi
   if [ -f "$data/3d/dll-catec/catec.bt" ] && [ -x "$bin/lidar_3d/vdtnav_lidar_3d" ]; then
-    step "[15/21] 3D LiDAR: simulated VLP-16 scans on the real CATEC OctoMap (ray cast in its own voxels) and on CATEC rebuilt by map3d from a noisy mapping drive (3 min)"
+    step "[15/22] 3D LiDAR: simulated VLP-16 scans on the real CATEC OctoMap (ray cast in its own voxels) and on CATEC rebuilt by map3d from a noisy mapping drive (3 min)"
     "$bin/lidar_3d/vdtnav_lidar_3d" --map "$data/3d/dll-catec/catec.bt" --out "$out/lidar_3d_catec"
   fi
   if [ -f "$data/vision/aerial/aero1.jpg" ] && [ -x "$bin/uav_camera/vdtnav_uav_camera" ]; then
-    step "[16/21] UAV downward camera over a real aerial photograph laid on the ground"
+    step "[16/22] UAV downward camera over a real aerial photograph laid on the ground"
     "$bin/uav_camera/vdtnav_uav_camera" --texture "$data/vision/aerial/aero1.jpg" \
       --out "$out/uav_camera_photo"
   fi
   if [ -f "$data/vision/rgbd-kinect/pose.txt" ] && [ -x "$bin/pmd_rgbd/vdtnav_pmd_rgbd" ]; then
-    step "[17/21] RGB-D: relative localization between recorded Kinect frames (real frames)"
+    step "[17/22] RGB-D: relative localization between recorded Kinect frames (real frames)"
     "$bin/pmd_rgbd/vdtnav_pmd_rgbd" --kinect "$data/vision/rgbd-kinect" --out "$out/pmd_rgbd_kinect"
   fi
   if [ -f "$data/intel-lab/intel.relations" ]; then
-    step "[18/21] Uncertain VDT maps on the Willow Garage corridor and the Intel lab (real map and log)"
+    step "[18/22] Uncertain VDT maps on the Willow Garage corridor and the Intel lab (real map and log)"
     "$bin/uncertain_map/vdtnav_uncertain_map" --data "$data" --out "$out/uncertain_map_real"
   fi
-  step "[19/21] Never lost: global localization and the kidnapped robot on the hospital section, fetch-office (simulated scans) and the Intel lab (real scans and odometry); false alarms of lost detection on the real logs"
+  step "[19/22] Never lost: global localization and the kidnapped robot on the hospital section, fetch-office (simulated scans) and the Intel lab (real scans and odometry); false alarms of lost detection on the real logs"
   "$bin/kidnapped/vdtnav_kidnapped" --data "$data" --out "$out/kidnapped_real"
   lpm="$data/3d/libpointmatcher"
   if [ -f "$lpm/car_cloud401.csv" ] && build/release/tools/vdtnav/vdtnav localize3d --help >/dev/null 2>&1; then
-    step "[20/21] vdtnav localize3d: libpointmatcher's real car scans, each on a map of the other, from identity"
+    step "[20/22] vdtnav localize3d: libpointmatcher's real car scans, each on a map of the other, from identity"
     mkdir -p "$out/localize3d_car"
     build/release/tools/vdtnav/vdtnav localize3d --map "$lpm/car_cloud400.csv" \
       --crop -40,-40,-12,40,40,20 --resolution 0.2 --scan "$lpm/car_cloud401.csv" --multi-start \
@@ -91,8 +91,23 @@ if [ -d "$data" ]; then
       --out "$out/localize3d_car/car_cloud400_in_401.yaml"
   fi
   if [ -d "$data/rosbags" ] && [ -x "$bin/ros_bags/vdtnav_ros_bags" ]; then
-    step "[21/21] ROS bags: a TurtleBot 4's ROS 2 bag and a Pioneer's ROS 1 bag localized on their maps from no prior"
+    step "[21/22] ROS bags: a TurtleBot 4's ROS 2 bag and a Pioneer's ROS 1 bag localized on their maps from no prior"
     "$bin/ros_bags/vdtnav_ros_bags" --data "$data" --out "$out/ros_bags"
+  fi
+  # The Python module (python/, -DVDTNAV_PYTHON): Debian's interpreter, the one with numpy.
+  py=/usr/bin/python3
+  [ -x "$py" ] || py=python3
+  if compgen -G "build/release/python/vdtnav/_vdtnav*.so" >/dev/null; then
+    step "[22/22] Python: the Intel study's vdt-opt run and the car pair's 3D registration through the module (examples/python)"
+    if [ -f "$data/intel-lab/intel.relations" ]; then
+      PYTHONPATH=build/release/python "$py" examples/python/intel_study.py --data "$data" \
+        --out "$out/python_intel"
+    fi
+    if [ -f "$lpm/car_cloud401.csv" ] &&
+       PYTHONPATH=build/release/python "$py" -c "import vdtnav; vdtnav.localize3d" 2>/dev/null; then
+      PYTHONPATH=build/release/python "$py" examples/python/pair_registration_3d.py --data "$data" \
+        --out "$out/python_pair3d"
+    fi
   fi
 else
   echo "== no data folder at '$data': skipping the real-data studies"
@@ -115,3 +130,8 @@ if [ -f "$out"/pmd_rgbd_kinect/kinect_relative.csv ]; then
   echo "-- $out/pmd_rgbd_kinect/kinect_relative.csv"
   cat "$out"/pmd_rgbd_kinect/kinect_relative.csv
 fi
+for t in "$out"/python_intel/table.csv "$out"/python_pair3d/summary.csv; do
+  [ -f "$t" ] || continue
+  echo "-- $t"
+  cat "$t"
+done
