@@ -71,6 +71,21 @@ void bind_result(py::module_& m, const char* name, const char* doc) {
       .def_readonly("inliers", &R::inliers)
       .def_readonly("dropped", &R::dropped)
       .def_readonly("final_cost", &R::final_cost)
+      .def_property_readonly(
+          "work",
+          [](const R& r) {
+            py::dict d;
+            d["solves"] = r.work.solves;
+            d["coarse_to_fine"] = r.work.coarse_to_fine;
+            d["window_searches"] = r.work.window_searches;
+            d["bridged"] = r.work.bridged;
+            d["global_searches"] = r.work.global_searches;
+            d["search_boxes"] = r.work.search_boxes;
+            d["candidates"] = r.work.candidates;
+            return d;
+          },
+          "what the update ran besides one solve: solves, coarse_to_fine, window_searches, "
+          "bridged, global_searches, search_boxes, candidates (localizer.hpp's Work)")
       .def("__repr__", [name](const R& r) {
         return std::string("<vdtnav.") + name + " " + status_token(r.status) + ", " +
                std::to_string(r.iterations) + " iterations>";

@@ -3,7 +3,8 @@
 // them (equal to 1e-12; in practice bit for bit).
 //
 //   cpp_reference lookup MAP.yaml POINTS.txt         one line per point: value, jacobian, inside
-//   cpp_reference localize MAP.yaml LOG METHOD N     one line per scan: pose, covariance, status
+//   cpp_reference localize MAP.yaml LOG METHOD N     one line per scan: pose, covariance, status,
+//                                                    iterations, solves, window searches
 //   cpp_reference localize3d MAP CLOUD DOF X Y Z ROLL PITCH YAW   pose (4 x 4), covariance, status
 #include <cstdio>
 #include <fstream>
@@ -66,7 +67,8 @@ int localize(const std::string& map_path, const std::string& log_path, const std
     const LocalizationResult r = loc->update(steps[k], scan);
     print_matrix(r.pose);
     print_matrix(r.covariance);
-    std::printf(" %d %d\n", static_cast<int>(r.status), r.iterations);
+    std::printf(" %d %d %d %d\n", static_cast<int>(r.status), r.iterations, r.work.solves,
+                r.work.window_searches);
   }
   return 0;
 }

@@ -261,6 +261,10 @@ class LocalizationResult:
     @property
     def final_cost(self) -> float:
         """The solver's final cost."""
+    @property
+    def work(self) -> dict[str, int]:
+        """What the update ran besides one solve: solves, coarse_to_fine, window_searches,
+        bridged, global_searches, search_boxes, candidates (localizer.hpp's Work)."""
 
 class LocalizationResult3:
     """The result of a 3D localization step."""
@@ -296,6 +300,10 @@ class LocalizationResult3:
     @property
     def final_cost(self) -> float:
         """The solver's final cost."""
+    @property
+    def work(self) -> dict[str, int]:
+        """What the update ran besides one solve: solves, coarse_to_fine, window_searches,
+        bridged, global_searches, search_boxes, candidates (localizer.hpp's Work)."""
 
 class LaserScan:
     """One planar scan (sensor_msgs/LaserScan semantics)."""
