@@ -113,9 +113,7 @@ LaserScan scan_from(const py::object& scan, const py::object& ranges, const py::
   s.ranges = to_doubles(ranges, "ranges");
   if (!angles.is_none()) {
     s.angles = to_doubles(angles, "angles");
-    if (s.angles.size() != s.ranges.size())
-      throw py::value_error("angles: expected " + std::to_string(s.ranges.size()) +
-                            " angles (one per range), got " + std::to_string(s.angles.size()));
+    check_scan(s, "angles");
   } else {
     if (angle_min.is_none() || angle_increment.is_none())
       throw py::value_error("update: give angles, or angle_min and angle_increment");

@@ -54,8 +54,6 @@ std::vector<typename PointView<Dim>::Vector> PointView<Dim>::all() const {
 template class PointView<2>;
 template class PointView<3>;
 
-py::array_t<double> new_array(std::vector<py::ssize_t> shape) { return py::array_t<double>(shape); }
-
 namespace {
 py::array_t<double> as_doubles(const py::handle& h, const char* what) {
   try {

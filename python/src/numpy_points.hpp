@@ -52,9 +52,6 @@ class PointView {
   bool is_float32_ = false;
 };
 
-/// \brief A float64 array of the given shape (C order), uninitialised.
-[[nodiscard]] py::array_t<double> new_array(std::vector<py::ssize_t> shape);
-
 /// \brief An array-like as a fixed-size vector / matrix. \throws ValueError naming `what`.
 [[nodiscard]] Eigen::VectorXd to_vector(const py::handle& h, py::ssize_t n, const char* what);
 [[nodiscard]] Eigen::MatrixXd to_matrix(const py::handle& h, py::ssize_t rows, py::ssize_t cols,
