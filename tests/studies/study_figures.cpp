@@ -110,6 +110,12 @@ std::vector<FigureCheck> check_study_figures(const std::string& expected_yaml,
           expected_yaml, line,
           "the recorded value is outside its target '" + c.target + "': say why in reason");
     }
+    if ((!meets(c.target, lo) || !meets(c.target, hi)) && !c.target.empty() && c.reason.empty() &&
+        !e["value"]) {
+      throw FormatError(
+          expected_yaml, line,
+          "min / max admit values outside the target '" + c.target + "': say why in reason");
+    }
     if (e["skip_without"]) {
       const std::string input = e["skip_without"].as<std::string>();
       if (!std::filesystem::exists(std::filesystem::path(data_dir) / input)) {
@@ -158,6 +164,7 @@ std::vector<FigureCheck> check_study_figures(const std::string& expected_yaml,
         } else {
           c.passed = true;
         }
+        c.within_target = meets(c.target, c.measured);
       }
     } catch (const Error& err) {
       c.message = err.what();

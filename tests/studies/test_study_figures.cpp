@@ -1,7 +1,8 @@
 // The studies' figure check (study_figures.hpp) on a small output folder: a figure in range
 // passes, one that moved fails with the file, row and column named, a missing study or row
 // fails, a real-data figure without its data is skipped, and an expectations file that records
-// a value outside its target without a reason is refused. The checked-in expected.yaml parses.
+// a value outside its target without a reason is refused, and so is a ceiling beyond its target.
+// The checked-in expected.yaml parses.
 #include "study_figures.hpp"
 
 #include <gtest/gtest.h>
@@ -105,6 +106,53 @@ TEST(StudyFigures, AValueOutsideItsTargetNeedsAReason) {
 )");
   EXPECT_NO_THROW(
       (void)check_study_figures((d / "in.yaml").string(), (d / "out").string(), d.string()));
+}
+
+TEST(StudyFigures, ACeilingBeyondItsTargetNeedsAReasonAndSaysWhenItIsUsed) {
+  const fs::path d = dir();
+  write(d / "out/intel_lab/table.csv", "method,cpu_ms_max\nvdt-opt,130\nvdt-ekf,40\n");
+  write(d / "bad.yaml", R"(
+- file: intel_lab/table.csv
+  row: {method: vdt-opt}
+  column: cpu_ms_max
+  max: 250
+  target: "<= 100"
+)");
+  try {
+    (void)check_study_figures((d / "bad.yaml").string(), (d / "out").string(), d.string());
+    FAIL() << "no error";
+  } catch (const FormatError& e) {
+    EXPECT_NE(std::string(e.what()).find("bad.yaml:2: min / max admit values outside the target"),
+              std::string::npos)
+        << e.what();
+  }
+  write(d / "ok.yaml", R"(
+- file: intel_lab/table.csv
+  row: {method: vdt-opt}
+  column: cpu_ms_max
+  max: 250
+  target: "<= 100"
+  reason: a shared machine's noise
+- file: intel_lab/table.csv
+  row: {method: vdt-ekf}
+  column: cpu_ms_max
+  max: 250
+  target: "<= 100"
+  reason: a shared machine's noise
+- file: intel_lab/table.csv
+  row: {method: vdt-ekf}
+  column: cpu_ms_max
+  max: 30
+  target: "<= 100"
+)");
+  const auto c = check_study_figures((d / "ok.yaml").string(), (d / "out").string(), d.string());
+  ASSERT_EQ(c.size(), 3U);
+  EXPECT_TRUE(c[0].passed);  // 130 within the ceiling, outside the target: the reason applies
+  EXPECT_FALSE(c[0].within_target);
+  EXPECT_TRUE(c[1].passed);  // 40 within both: the reason is not printed
+  EXPECT_TRUE(c[1].within_target);
+  EXPECT_FALSE(c[2].passed);  // 40 over a ceiling of 30
+  EXPECT_EQ(c[2].message, "40 is not in [-inf, 30]");
 }
 
 TEST(StudyFigures, TheCheckedInExpectationsParse) {
