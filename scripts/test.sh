@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # The test suite: a Release build with -Wall -Wextra -Wpedantic -Werror and all tests, the main
 # job's studies with their headline figures checked against tests/studies/expected.yaml, the
-# tests again under AddressSanitizer + UndefinedBehaviorSanitizer, the benchmarks in smoke mode,
-# and the parsers' fuzz targets for a few seconds each (scripts/fuzz.sh runs them for longer).
+# tests again under AddressSanitizer + UndefinedBehaviorSanitizer, the parsers' fuzz targets for a
+# few seconds each (scripts/fuzz.sh runs them for longer), and the benchmarks in smoke mode.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 jobs="$(nproc)"
@@ -16,8 +16,8 @@ ctest --test-dir build/release --output-on-failure -j "$jobs"
 echo "== [2/5] The studies are tests: the main job (beside the ASan build), its figures checked"
 # Into a folder of its own (a fresh one: a study that did not run must not pass on old tables).
 # It runs in the background while the sanitized build compiles and tests on the other core:
-# most of its steps use one core. Its time figures are processor time (cpu_ms_max), which the
-# sharing does not change.
+# most of its steps use one core. Its time figures (cpu_ms_max, processor time) are checked against
+# loose ceilings only: the sharing inflates them (CI measured 2.6x this machine's on one scan).
 studies=build/studies
 rm -rf "$studies"
 VDTNAV_OUT="$studies" scripts/main.sh "$data" > build/main_job.log 2>&1 &
@@ -34,6 +34,14 @@ scripts/setup.sh asan
 asan_skip='BuildOccupancyMap\.ReproducesTheSimulatorsFloorPlan|Covariance\..*MonteCarlo'
 asan_skip+='|Kidnapped\.|VdtLocalizer3\.ATeleport|GlobalLocalization\.BestLeafIsTheExhaustive'
 asan_skip+='|RecoveringLocalizer\.APlaceTheMapLacks|CliRealLogs\.|\.MapsRebuiltFromNoisyScans'
+# ... and the longest brute-force comparisons (30-50 s each here), whose classes run here through
+# their other tests: the attitude grid of the 3D multi-start (the sparse-cloud multi-start test),
+# the map-noise floor of the 3D covariance, the optimizer's map-uncertainty Monte Carlo (the EKF's
+# runs), and the sparse map against the dense one everywhere in the band (the batch lookups
+# against the dense map, the rotated frame and the nearest points).
+asan_skip+='|MultiStart\.TheAttitudeGrid|VdtOptimizer3Covariance\.MapNoiseFloor'
+asan_skip+='|MapUncertainty\.OptimizerCovarianceCovers'
+asan_skip+='|SparseVdtMap\.(AgreesWithTheDenseMapInsideTheBand|ToleranceIsTight)'
 # The ROS node on a live graph plays a bag at its rate and ten times faster: under the sanitizers
 # the node cannot keep that pace, which is what the test checks; LiveLocalizer, the node's core,
 # runs here (test_live_localizer).
@@ -41,6 +49,16 @@ asan_skip+='|LocalizerNode\.'
 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
   ctest --test-dir build/asan --output-on-failure -j "$jobs" -E "$asan_skip"
 
+echo "== [4/5] Fuzz targets of the parsers, 3000 inputs each (clang, libFuzzer, ASan + UBSan)"
+# While the main job may still run: both cores stay busy.
+# A fixed seed and input count keep the pass short and bounded; they do not make the inputs the
+# same on every run (libFuzzer's feedback differs from run to run: a clean-clone run found an
+# OpenCV hang that earlier runs with the same seed had not), so a new finding here is a bug to
+# fix and keep in fuzz/regressions/ (scripts/fuzz.sh without FUZZ_SEED explores longer). The
+# settings-file target needs the whole localization library under clang: scripts/fuzz.sh runs it;
+# here the file parsers.
+FUZZ_SEED=1 FUZZ_TARGETS="ros_map ros_map_image vdt_map_file carmen_log relations tum_trajectory
+  odometry_table point_set pan_tilt_csv camera_calibration camera_poses ros1_bag ros_messages" scripts/fuzz.sh 600 3000
 echo "== [2/5] (continued) the main job's steps, then its figures against tests/studies/expected.yaml"
 if ! wait "$main_job"; then
   main_job=""
@@ -52,20 +70,11 @@ main_job=""
 grep -E '^== |took [0-9]+ s' build/main_job.log
 build/release/tests/studies/vdtnav_check_studies tests/studies/expected.yaml "$studies" "$data"
 
-echo "== [4/5] Benchmarks, smoke mode (one short run each; numbers are not meaningful here)"
+echo "== [5/5] Benchmarks, smoke mode (one short run each; numbers are not meaningful here)"
 # BM_LocalizeIntelCeres is left out here: a whole Intel run (~50 s) like BM_LocalizeIntel, with
 # Ceres instead of the dense solver that the small Ceres benchmarks already run.
 for b in build/release/bench/bench_*; do
   [ -x "$b" ] || continue
   "$b" --benchmark_min_time=0.01 --benchmark_format=console --benchmark_filter=-BM_LocalizeIntelCeres
 done
-echo "== [5/5] Fuzz targets of the parsers, 3000 inputs each (clang, libFuzzer, ASan + UBSan)"
-# A fixed seed and input count keep the pass short and bounded; they do not make the inputs the
-# same on every run (libFuzzer's feedback differs from run to run: a clean-clone run found an
-# OpenCV hang that earlier runs with the same seed had not), so a new finding here is a bug to
-# fix and keep in fuzz/regressions/ (scripts/fuzz.sh without FUZZ_SEED explores longer). The
-# settings-file target needs
-# the whole localization library under clang: scripts/fuzz.sh runs it; here the file parsers.
-FUZZ_SEED=1 FUZZ_TARGETS="ros_map ros_map_image vdt_map_file carmen_log relations tum_trajectory
-  odometry_table point_set pan_tilt_csv camera_calibration camera_poses ros1_bag ros_messages" scripts/fuzz.sh 600 3000
 echo "== all tests passed"
