@@ -8,8 +8,8 @@
 //    does).
 // A scan is right when within 0.5 m of its corrected pose; a false alarm is a right scan reported
 // lost. Writes false_alarms.csv (log,method,scans,right,flagged_lost,false_alarms,
-// false_alarm_pct,off_0.5m,recoveries,ms_mean,ms_max,cpu_ms_max; cpu: the slowest update's
-// processor time, without what other processes took), false_alarms.md and per log
+// false_alarm_pct,off_0.5m,recoveries,ms_mean,ms_max,cpu_ms_max,ms_median,ms_p99; cpu: the
+// slowest update's processor time; p99: nearest rank), false_alarms.md and per log
 // <log>_agreement.png: each scan's explained fraction and the window's contradiction, with the
 // lost flags.
 #include <string>

@@ -3,12 +3,14 @@
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Cholesky>
 
 #include "turtlebot_study.hpp"
 #include "vdtnav/eval/nees.hpp"
+#include "vdtnav/eval/trajectory_metrics.hpp"
 
 namespace turtlebot_study {
 
@@ -25,6 +27,16 @@ double stdev(const std::vector<double>& v) {
   double s = 0;
   for (double x : v) s += (x - m) * (x - m);
   return std::sqrt(s / (v.size() - 1));
+}
+
+/// The per-scan times of `m`: mean, median, p99 and max of `ms`.
+void set_times(Metrics& m, std::vector<double> ms) {
+  const eval::ErrorStatistics s = eval::error_statistics(ms);
+  m.ms_mean = s.mean;
+  m.ms_median = s.median;
+  m.ms_p99 = s.p99;
+  m.ms_max = s.max;
+  m.ms = std::move(ms);
 }
 
 }  // namespace
@@ -54,8 +66,7 @@ Metrics evaluate(const Trace& t, const sim::SimulatedRun& run) {
     m.anees_hi = bounds.upper;
   }
   m.lost_pct = 100.0 * lost / static_cast<double>(pe.size());
-  m.ms_mean = mean(t.ms);
-  m.ms_max = t.ms.empty() ? 0.0 : *std::max_element(t.ms.begin(), t.ms.end());
+  set_times(m, t.ms);
   return m;
 }
 
@@ -74,9 +85,9 @@ Metrics combine(const std::vector<Metrics>& r) {
   m.has_cov = r[0].has_cov;
   m.anees = mean(col(&Metrics::anees)), m.anees_lo = mean(col(&Metrics::anees_lo));
   m.anees_hi = mean(col(&Metrics::anees_hi)), m.lost_pct = mean(col(&Metrics::lost_pct));
-  m.ms_mean = mean(col(&Metrics::ms_mean));
-  const auto mx = col(&Metrics::ms_max);
-  m.ms_max = *std::max_element(mx.begin(), mx.end());
+  std::vector<double> ms;
+  for (const auto& x : r) ms.insert(ms.end(), x.ms.begin(), x.ms.end());
+  set_times(m, std::move(ms));
   return m;
 }
 

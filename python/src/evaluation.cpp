@@ -161,6 +161,8 @@ void bind_evaluation(py::module_& m) {
       .def_readonly("rmse", &eval::ErrorStatistics::rmse)
       .def_readonly("mean", &eval::ErrorStatistics::mean)
       .def_readonly("median", &eval::ErrorStatistics::median)
+      .def_readonly("p99", &eval::ErrorStatistics::p99,
+                    "99th percentile by nearest rank: the ceil(0.99 n)-th smallest value.")
       .def_readonly("std", &eval::ErrorStatistics::std)
       .def_readonly("min", &eval::ErrorStatistics::min)
       .def_readonly("max", &eval::ErrorStatistics::max);

@@ -832,6 +832,9 @@ class ErrorStatistics:
     def median(self) -> float:
         """Middle value (mean of the two middle ones for an even count)."""
     @property
+    def p99(self) -> float:
+        """99th percentile by nearest rank: the ceil(0.99 n)-th smallest value."""
+    @property
     def std(self) -> float:
         """Sample standard deviation (n - 1); 0 when count < 2."""
     @property

@@ -44,6 +44,9 @@ ErrorStatistics error_statistics(std::vector<double> errors) {
   s.rmse = std::sqrt(sum_sq / n);
   const std::size_t mid = errors.size() / 2;
   s.median = errors.size() % 2 == 1 ? errors[mid] : 0.5 * (errors[mid - 1] + errors[mid]);
+  // Nearest rank: the smallest value with at least 99 % of the values at or below it.
+  const auto rank = static_cast<std::size_t>(std::ceil(0.99 * n));
+  s.p99 = errors[std::max<std::size_t>(rank, 1) - 1];
   s.min = errors.front();
   s.max = errors.back();
   if (errors.size() > 1) {

@@ -4,8 +4,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
+#include <vector>
 
 #include <Eigen/Geometry>
 
@@ -46,6 +48,22 @@ TEST(ErrorStatistics, KnownList) {
   EXPECT_EQ(s.max, 4.0);
   EXPECT_EQ(error_statistics({5.0, 1.0, 2.0}).median, 2.0);
   EXPECT_EQ(error_statistics({}).count, 0u);
+  EXPECT_EQ(s.p99, 4.0);  // ceil(0.99 * 4) = 4th smallest
+}
+
+TEST(ErrorStatistics, P99IsTheNearestRankPercentile) {
+  // 1..n shuffled: the nearest-rank 99th percentile is ceil(0.99 n); at n = 100 it is 99 (one
+  // value above it), at n = 1000 it is 990 (ten above), at n = 50 the 50th (the maximum).
+  for (const int n : {1, 50, 100, 101, 1000}) {
+    std::vector<double> v(static_cast<std::size_t>(n));
+    for (int i = 0; i < n; ++i) v[static_cast<std::size_t>(i)] = (i * 7919) % n + 1.0;
+    const ErrorStatistics s = error_statistics(v);
+    const int above =
+        static_cast<int>(std::count_if(v.begin(), v.end(), [&](double x) { return x > s.p99; }));
+    EXPECT_LE(above, n / 100) << n;           // at least 99 % at or below it
+    EXPECT_LT(n - above - 1, 0.99 * n) << n;  // the smallest such value: fewer are below it
+    EXPECT_EQ(s.p99, std::ceil(0.99 * n)) << n;
+  }
 }
 
 TEST(Associate, ClosestPairsOneToOneWithinTheMaximum) {

@@ -21,6 +21,7 @@
 #include "vdtnav/core/error.hpp"
 #include "vdtnav/estimation/localizer_config.hpp"
 #include "vdtnav/estimation/localizer_factory.hpp"
+#include "vdtnav/eval/trajectory_metrics.hpp"
 #include "vdtnav/io/log_odometry.hpp"
 #include "vdtnav/io/tum_trajectory.hpp"
 #ifdef VDTNAV_CLI_ROS
@@ -254,7 +255,7 @@ void run_localize(const LocalizeArgs& a) {
   std::map<LocalizationStatus, int> status_count;
   std::vector<Pose2> estimate;
   std::vector<LaserScan> scans;
-  double ms_sum = 0.0, ms_max = 0.0;
+  std::vector<double> scan_ms;  // each update's wall time: the summary's mean, median, p99, max
   std::size_t with_cov = 0, processed = 0;
   std::unique_ptr<Localizer2D> loc;
   const auto wall0 = std::chrono::steady_clock::now();
@@ -270,8 +271,7 @@ void run_localize(const LocalizeArgs& a) {
       const LocalizationResult r = loc->update(k == first ? OdometryStep{} : steps[k], scan);
       const double ms =
           std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-      ms_sum += ms;
-      ms_max = std::max(ms_max, ms);
+      scan_ms.push_back(ms);
       ++processed;
       ++status_count[r.status];
       PoseRow& row = rows[k];
@@ -336,9 +336,11 @@ void run_localize(const LocalizeArgs& a) {
   }
   staged.commit();
 
-  std::printf("%s: %zu scans processed in %.3f s wall (%.3f ms per scan mean, %.3f max)\n",
-              a.method.c_str(), processed, wall,
-              processed > 0 ? ms_sum / static_cast<double>(processed) : 0.0, ms_max);
+  const eval::ErrorStatistics ms = eval::error_statistics(scan_ms);
+  std::printf(
+      "%s: %zu scans processed in %.3f s wall (%.3f ms per scan mean, %.3f median, %.3f p99, "
+      "%.3f max)\n",
+      a.method.c_str(), processed, wall, ms.mean, ms.median, ms.p99, ms.max);
   if (first > 0) std::printf("  %-22s %zu\n", "refused (--init global)", first);
   if (!started) std::printf("  %-22s %zu\n", "not tried", n_scans - first);
   for (const auto& [s, n] : status_count) std::printf("  %-22s %d\n", to_string(s), n);

@@ -34,6 +34,7 @@ struct ErrorStatistics {
   double rmse = 0.0;    ///< sqrt(mean of squares)
   double mean = 0.0;    ///< arithmetic mean
   double median = 0.0;  ///< middle value (mean of the two middle ones for an even count)
+  double p99 = 0.0;     ///< 99th percentile by nearest rank: the ceil(0.99 n)-th smallest value
   double std = 0.0;     ///< sample standard deviation (n - 1); 0 when count < 2
   double min = 0.0;
   double max = 0.0;
