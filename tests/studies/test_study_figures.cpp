@@ -27,6 +27,16 @@ fs::path dir() {
 
 void write(const fs::path& p, const std::string& text) { std::ofstream(p) << text; }
 
+/// Expects d/bad.yaml to be refused with a FormatError whose message contains `message`.
+void expect_refused(const fs::path& d, const std::string& message) {
+  try {
+    (void)check_study_figures((d / "bad.yaml").string(), (d / "out").string(), d.string());
+    FAIL() << "no error";
+  } catch (const FormatError& e) {
+    EXPECT_NE(std::string(e.what()).find(message), std::string::npos) << e.what();
+  }
+}
+
 TEST(StudyFigures, InRangePassesMovedFailsMissingFailsNoDataSkips) {
   const fs::path d = dir();
   write(d / "out/intel_lab/table.csv",
@@ -89,14 +99,7 @@ TEST(StudyFigures, AValueOutsideItsTargetNeedsAReason) {
   tolerance: 0.001
   target: "<= 0.035"
 )");
-  try {
-    (void)check_study_figures((d / "bad.yaml").string(), (d / "out").string(), d.string());
-    FAIL() << "no error";
-  } catch (const FormatError& e) {
-    EXPECT_NE(std::string(e.what()).find("bad.yaml:2: the recorded value is outside its target"),
-              std::string::npos)
-        << e.what();
-  }
+  expect_refused(d, "bad.yaml:2: the recorded value is outside its target");
   write(d / "in.yaml", R"(
 - file: x.csv
   row: {method: a}
@@ -118,14 +121,7 @@ TEST(StudyFigures, ACeilingBeyondItsTargetNeedsAReasonAndSaysWhenItIsUsed) {
   max: 250
   target: "<= 100"
 )");
-  try {
-    (void)check_study_figures((d / "bad.yaml").string(), (d / "out").string(), d.string());
-    FAIL() << "no error";
-  } catch (const FormatError& e) {
-    EXPECT_NE(std::string(e.what()).find("bad.yaml:2: min / max admit values outside the target"),
-              std::string::npos)
-        << e.what();
-  }
+  expect_refused(d, "bad.yaml:2: min / max admit values outside the target");
   write(d / "ok.yaml", R"(
 - file: intel_lab/table.csv
   row: {method: vdt-opt}
