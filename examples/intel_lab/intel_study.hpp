@@ -34,10 +34,10 @@ struct Row {
   bool has_cov = false;
   eval::AneesResult anees;
   eval::RelationNeesResult rel_nees;  ///< relations whose both ends have a covariance
-  double ms_mean = 0.0, ms_max = 0.0, wall_s = 0.0;
-  double ms_median = 0.0, ms_p99 = 0.0;  ///< per-scan wall time as users see it (issue 34)
+  eval::ErrorStatistics ms;           ///< each update's wall milliseconds: mean, median, p99, max
+  double wall_s = 0.0;
   /// The slowest update's processor time (std::clock): its own work, without the time other
-  /// processes of a shared machine took from it (ms_max, wall time, includes that).
+  /// processes of a shared machine took from it (ms.max, wall time, includes that).
   double cpu_ms_max = 0.0;
   std::vector<Pose2> poses;
   std::vector<Eigen::Matrix3d> cov;

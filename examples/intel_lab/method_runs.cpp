@@ -59,11 +59,7 @@ Row localize_method(const std::string& method, const VdtMap2& vdt, const mapping
     }
   }
   r.wall_s = std::chrono::duration<double>(Clock::now() - w0).count();
-  const eval::ErrorStatistics ms = eval::error_statistics(scan_ms);
-  r.ms_mean = ms.mean;
-  r.ms_median = ms.median;
-  r.ms_p99 = ms.p99;
-  r.ms_max = ms.max;
+  r.ms = eval::error_statistics(scan_ms);
   r.rel = eval::relation_metric(est, relations, ro);
   r.ate = eval::absolute_trajectory_error(est, reference);
   r.rpe = eval::relative_pose_error(est, reference);
@@ -78,8 +74,8 @@ Row localize_method(const std::string& method, const VdtMap2& vdt, const mapping
       "[intel] %-8s relations %zu: %.4f m / %.3f deg, ATE %.4f m, %zu scans off by > 0.5 m, "
       "%zu flagged lost, %.3f ms per scan (median %.3f, p99 %.1f, max %.1f), %.3f s wall\n",
       method.c_str(), r.rel.used, r.rel.translation.mean, r.rel.rotation.mean * kRadToDeg,
-      r.ate.unaligned_translation.rmse, r.lost, r.flagged_lost, r.ms_mean, r.ms_median, r.ms_p99,
-      r.ms_max, r.wall_s);
+      r.ate.unaligned_translation.rmse, r.lost, r.flagged_lost, r.ms.mean, r.ms.median, r.ms.p99,
+      r.ms.max, r.wall_s);
   return r;
 }
 

@@ -37,9 +37,9 @@ void write_tables(std::ostream& csv, std::ostream& md, const std::vector<Row>& r
                   r.rpe.ok() ? r.rpe.translation.rmse : 0.0,
                   r.rpe.ok() ? r.rpe.rotation.rmse * kRadToDeg : 0.0, r.lost, r.scans,
                   r.has_cov ? 1 : 0, r.anees.anees, r.anees.interval.lower, r.anees.interval.upper,
-                  r.ms_mean, r.ms_max, r.wall_s, r.rel_nees.used, r.rel_nees.skipped_no_covariance,
+                  r.ms.mean, r.ms.max, r.wall_s, r.rel_nees.used, r.rel_nees.skipped_no_covariance,
                   r.rel_nees.mean, r.rel_nees.median, r.rel_nees.fraction_inside, r.flagged_lost,
-                  r.cpu_ms_max, r.has_cov ? r.scans - r.anees.count : 0, r.ms_median, r.ms_p99);
+                  r.cpu_ms_max, r.has_cov ? r.scans - r.anees.count : 0, r.ms.median, r.ms.p99);
     csv << b;
     std::string anees = r.has_cov ? "" : "—";
     if (r.has_cov) {
@@ -70,7 +70,7 @@ void write_tables(std::ostream& csv, std::ostream& md, const std::vector<Row>& r
                     r.rel.rotation.mean * kRadToDeg, r.rel.rotation.std * kRadToDeg,
                     r.ate.unaligned_translation.rmse, r.rpe.translation.rmse,
                     r.rpe.rotation.rmse * kRadToDeg, r.lost, r.flagged_lost, anees.c_str(),
-                    rel_nees.c_str(), r.ms_mean, r.ms_median, r.ms_p99, r.ms_max, r.wall_s);
+                    rel_nees.c_str(), r.ms.mean, r.ms.median, r.ms.p99, r.ms.max, r.wall_s);
     }
     md << b;
   }

@@ -94,8 +94,8 @@ LogCase intel_study(const std::string& dir) {
 struct Run {
   std::string method;
   int right = 0, lost = 0, false_alarms = 0, off = 0, recoveries = 0;
-  double ms_mean = 0.0, ms_max = 0.0, ms_median = 0.0, ms_p99 = 0.0;
-  double cpu_ms_max = 0.0;  // the slowest update's processor time (without other processes')
+  eval::ErrorStatistics ms;  // each update's wall milliseconds: mean, median, p99, max
+  double cpu_ms_max = 0.0;   // the slowest update's processor time (without other processes')
   std::vector<double> explained, contradiction;  // per scan, the window's for the second
   std::vector<bool> flagged;
 };
@@ -131,11 +131,7 @@ Run localize(const LogCase& c, const std::string& method, const VdtMap2& vdt,
     run.flagged.push_back(lost);
   }
   if (rec != nullptr) run.recoveries = rec->recoveries();
-  const eval::ErrorStatistics ms = eval::error_statistics(scan_ms);
-  run.ms_mean = ms.mean;
-  run.ms_median = ms.median;
-  run.ms_p99 = ms.p99;
-  run.ms_max = ms.max;
+  run.ms = eval::error_statistics(scan_ms);
   return run;
 }
 
@@ -219,20 +215,20 @@ int run(const std::string& data, const std::string& out) {
       char line[512];
       std::snprintf(line, sizeof line, "%s,%s,%zu,%d,%d,%d,%.2f,%d,%d,%.3f,%.3f,%.3f,%.3f,%.3f\n",
                     c.name.c_str(), method, c.scans.size(), r.right, r.lost, r.false_alarms, pct,
-                    r.off, r.recoveries, r.ms_mean, r.ms_max, r.cpu_ms_max, r.ms_median, r.ms_p99);
+                    r.off, r.recoveries, r.ms.mean, r.ms.max, r.cpu_ms_max, r.ms.median, r.ms.p99);
       csv << line;
       std::snprintf(
           line, sizeof line,
           "| %s | %s | %zu | %d | %d | %d | %.2f %% | %d | %d | %.2f, %.2f, %.1f (%.1f) |\n",
           c.name.c_str(), method, c.scans.size(), r.right, r.lost, r.false_alarms, pct, r.off,
-          r.recoveries, r.ms_mean, r.ms_median, r.ms_p99, r.ms_max);
+          r.recoveries, r.ms.mean, r.ms.median, r.ms.p99, r.ms.max);
       md << line;
       std::printf(
           "  false alarms %-22s %-8s %zu scans: %d flagged lost, %d false alarms (%.2f %% of %d "
           "right), %d off by > 0.5 m, %d re-acquired; %.2f ms per scan (median %.2f, p99 %.1f, "
           "max %.1f)\n",
           c.name.c_str(), method, c.scans.size(), r.lost, r.false_alarms, pct, r.right, r.off,
-          r.recoveries, r.ms_mean, r.ms_median, r.ms_p99, r.ms_max);
+          r.recoveries, r.ms.mean, r.ms.median, r.ms.p99, r.ms.max);
       std::fflush(stdout);
     }
     figure(c, runs, out + "/" + c.name + "_agreement.png");

@@ -29,13 +29,9 @@ double stdev(const std::vector<double>& v) {
   return std::sqrt(s / (v.size() - 1));
 }
 
-/// The per-scan times of `m`: mean, median, p99 and max of `ms`.
+/// The per-scan times of `m`: `ms` and its statistics.
 void set_times(Metrics& m, std::vector<double> ms) {
-  const eval::ErrorStatistics s = eval::error_statistics(ms);
-  m.ms_mean = s.mean;
-  m.ms_median = s.median;
-  m.ms_p99 = s.p99;
-  m.ms_max = s.max;
+  m.ms_stats = eval::error_statistics(ms);
   m.ms = std::move(ms);
 }
 

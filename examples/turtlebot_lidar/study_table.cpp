@@ -32,7 +32,7 @@ void write_tables(const std::string& out, const std::vector<std::string>& method
         "%.4f\n",
         methods[m].c_str(), x.pos_mae, x.pos_mae_std, x.ori_mae, x.ori_mae_std, x.pos_mse,
         x.pos_mse_std, x.ori_mse, x.ori_mse_std, x.has_cov ? 1 : 0, x.anees, x.anees_lo, x.anees_hi,
-        x.lost_pct, x.ms_mean, x.ms_max, x.ms_median, x.ms_p99);
+        x.lost_pct, x.ms_stats.mean, x.ms_stats.max, x.ms_stats.median, x.ms_stats.p99);
     csv << line;
     std::snprintf(line, sizeof line,
                   "| %s | %.4f ± %.4f | %.4f ± %.4f | %.4f ± %.4f | %.4f ± %.4f | %s | %s | %.2f "
@@ -45,12 +45,12 @@ void write_tables(const std::string& out, const std::vector<std::string>& method
                                std::to_string(x.anees_hi).substr(0, 4) + "]")
                                   .c_str()
                             : "—",
-                  x.lost_pct, x.ms_mean, x.ms_median, x.ms_p99, x.ms_max);
+                  x.lost_pct, x.ms_stats.mean, x.ms_stats.median, x.ms_stats.p99, x.ms_stats.max);
     md << line;
     std::printf("%-8s %8.4f ± %7.4f %8.4f ± %7.4f %8s %8.3f [%.2f,%.2f] %7.2f %8.3f %8.3f\n",
                 methods[m].c_str(), x.pos_mae, x.pos_mae_std, x.ori_mae, x.ori_mae_std,
-                x.has_cov ? "yes" : "no", x.anees, x.anees_lo, x.anees_hi, x.lost_pct, x.ms_mean,
-                x.ms_max);
+                x.has_cov ? "yes" : "no", x.anees, x.anees_lo, x.anees_hi, x.lost_pct,
+                x.ms_stats.mean, x.ms_stats.max);
   }
 }
 

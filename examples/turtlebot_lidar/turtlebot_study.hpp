@@ -8,6 +8,7 @@
 
 #include <Eigen/Core>
 
+#include "vdtnav/eval/trajectory_metrics.hpp"
 #include "vdtnav/map/grid.hpp"
 #include "vdtnav/map/vdt_map.hpp"
 #include "vdtnav/sim/lidar_simulator.hpp"
@@ -25,9 +26,9 @@ struct Metrics {
   double pos_mae = 0, pos_mae_std = 0, ori_mae = 0, ori_mae_std = 0;
   double pos_mse = 0, pos_mse_std = 0, ori_mse = 0, ori_mse_std = 0;
   bool has_cov = false;
-  double anees = 0, anees_lo = 0, anees_hi = 0, lost_pct = 0, ms_mean = 0, ms_max = 0;
-  double ms_median = 0, ms_p99 = 0;  ///< per-scan time as users see it (p99: nearest rank)
-  std::vector<double> ms;            ///< every scan's milliseconds (of all runs when combined)
+  double anees = 0, anees_lo = 0, anees_hi = 0, lost_pct = 0;
+  std::vector<double> ms;  ///< every scan's milliseconds (of all runs when combined)
+  vdtnav::eval::ErrorStatistics ms_stats;  ///< of ms: mean, median, p99 (nearest rank), max
 };
 
 /// Errors, ANEES, lost fraction and timings of one method's trace against the run's truth.
