@@ -9,6 +9,7 @@
 #include <utility>
 
 #include "vdt_lookup_kernels.hpp"
+#include "vdtnav/core/parallel.hpp"
 #include "vdtnav/map/cubic_bspline.hpp"
 #include "vdtnav/map/vector_distance_transform.hpp"
 
@@ -286,124 +287,148 @@ SparseVdtMap3 SparseVdtMap3::build(const std::vector<Index>& occupied, const Gri
 
   const Index tiles = (size.array() + (kTile - 1)) / kTile;
   const float res = static_cast<float>(frame.resolution());
-  std::vector<float> samples;
-  std::vector<std::uint8_t> near;
-  std::vector<Index> allocated;
-  for (int tz = 0; tz < tiles.z(); ++tz)
-    for (int ty = 0; ty < tiles.y(); ++ty)
-      for (int tx = 0; tx < tiles.x(); ++tx) {
-        const Index tlo = Index(tx, ty, tz) * kTile;
-        const Index thi = (tlo + Index::Constant(kTile)).cwiseMin(size);
-        const Index b0 = tlo / kB, b1 = (thi.array() + (kB - 1)) / kB;
-        bool active = false;
-        const Index d0 = (b0 - Index::Constant(dilation)).cwiseMax(Index::Zero());
-        const Index d1 = (b1 + Index::Constant(dilation)).cwiseMin(nb);
-        for (int z = d0.z(); z < d1.z() && !active; ++z)
-          for (int y = d0.y(); y < d1.y() && !active; ++y)
-            for (int x = d0.x(); x < d1.x() && !active; ++x)
-              active = features.slot(Index(x, y, z)) >= 0;
-        if (!active) continue;
+  // A tile's bricks, in the order of its loops, and their coefficients. The coarse nodes of the
+  // tile's own bricks are written in place (no other tile writes them).
+  struct TileBricks {
+    std::vector<Index> allocated;
+    std::vector<float> coefficients;  // kBrickFloats per allocated brick
+  };
+  const auto build_tile = [&](int tx, int ty, int tz, TileBricks* out) {
+    std::vector<float> samples;
+    std::vector<std::uint8_t> near;
+    std::vector<Index>& allocated = out->allocated;
+    const Index tlo = Index(tx, ty, tz) * kTile;
+    const Index thi = (tlo + Index::Constant(kTile)).cwiseMin(size);
+    const Index b0 = tlo / kB, b1 = (thi.array() + (kB - 1)) / kB;
+    bool active = false;
+    const Index d0 = (b0 - Index::Constant(dilation)).cwiseMax(Index::Zero());
+    const Index d1 = (b1 + Index::Constant(dilation)).cwiseMin(nb);
+    for (int z = d0.z(); z < d1.z() && !active; ++z)
+      for (int y = d0.y(); y < d1.y() && !active; ++y)
+        for (int x = d0.x(); x < d1.x() && !active; ++x)
+          active = features.slot(Index(x, y, z)) >= 0;
+    if (!active) return;
 
-        // The window's feature transform (window coordinates).
-        const Index wlo = (tlo - Index::Constant(halo)).cwiseMax(Index::Zero());
-        const Index whi = (thi + Index::Constant(halo)).cwiseMin(size);
-        OccupancyGrid<3> window(whi - wlo, GridFrame<3>(1.0, Eigen::Vector3d::Zero()), 0);
-        bool any_feature = false;
-        const Index wb0 = wlo / kB, wb1 = (whi.array() + (kB - 1)) / kB;
-        for (int z = wb0.z(); z < wb1.z(); ++z)
-          for (int y = wb0.y(); y < wb1.y(); ++y)
-            for (int x = wb0.x(); x < wb1.x(); ++x) {
-              const std::int32_t s = features.slot(Index(x, y, z));
-              if (s < 0) continue;
-              features.for_each(static_cast<std::size_t>(s), [&](const Index& v) {
-                if ((v.array() >= wlo.array()).all() && (v.array() < whi.array()).all()) {
-                  window(v - wlo) = 1;
-                  any_feature = true;
-                }
-              });
+    // The window's feature transform (window coordinates).
+    const Index wlo = (tlo - Index::Constant(halo)).cwiseMax(Index::Zero());
+    const Index whi = (thi + Index::Constant(halo)).cwiseMin(size);
+    OccupancyGrid<3> window(whi - wlo, GridFrame<3>(1.0, Eigen::Vector3d::Zero()), 0);
+    bool any_feature = false;
+    const Index wb0 = wlo / kB, wb1 = (whi.array() + (kB - 1)) / kB;
+    for (int z = wb0.z(); z < wb1.z(); ++z)
+      for (int y = wb0.y(); y < wb1.y(); ++y)
+        for (int x = wb0.x(); x < wb1.x(); ++x) {
+          const std::int32_t s = features.slot(Index(x, y, z));
+          if (s < 0) continue;
+          features.for_each(static_cast<std::size_t>(s), [&](const Index& v) {
+            if ((v.array() >= wlo.array()).all() && (v.array() < whi.array()).all()) {
+              window(v - wlo) = 1;
+              any_feature = true;
             }
-        if (!any_feature) continue;
-        const Grid<std::int32_t, 3> nearest = nearest_occupied_cells(window);
-        const auto offset = [&](const Index& w) {  // w - c(w), window voxels
-          return Index(w - nearest.index_of(nearest(w)));
-        };
-        for (int bz = b0.z(); bz < b1.z(); ++bz)
-          for (int by = b0.y(); by < b1.y(); ++by)
-            for (int bx = b0.x(); bx < b1.x(); ++bx) {
-              const Index c(bx, by, bz);
-              const Index j = nearest.index_of(nearest(coarse_voxel(c) - wlo)) + wlo;
-              for (int d = 0; d < 3; ++d) owned->coarse[3 * coarse_linear(c) + d] = j[d];
-              coarse_done[coarse_linear(c)] = 1;
-            }
-
-        // Nodes within near_radius of a feature, over the tile widened by the support.
-        const Index rlo = (tlo - Index::Constant(kSupport)).cwiseMax(Index::Zero());
-        const Index rhi = (thi + Index::Constant(kSupport)).cwiseMin(size);
-        const Index rn = rhi - rlo;
-        near.assign(static_cast<std::size_t>(rn.prod()), 0);
-        for (int z = 0; z < rn.z(); ++z)
-          for (int y = 0; y < rn.y(); ++y)
-            for (int x = 0; x < rn.x(); ++x) {
-              const Index v(x, y, z);
-              near[(static_cast<std::size_t>(z) * rn.y() + y) * rn.x() + x] =
-                  offset(v + rlo - wlo).squaredNorm() <= near2;
-            }
-        // A brick is needed when a node within its support reach is near.
-        allocated.clear();
-        for (int bz = b0.z(); bz < b1.z(); ++bz)
-          for (int by = b0.y(); by < b1.y(); ++by)
-            for (int bx = b0.x(); bx < b1.x(); ++bx) {
-              const Index b(bx, by, bz);
-              const Index lo = (b * kB - Index::Constant(kSupport)).cwiseMax(rlo) - rlo;
-              const Index hi = (b * kB + Index::Constant(kB + kSupport)).cwiseMin(rhi) - rlo;
-              bool need = false;
-              for (int z = lo.z(); z < hi.z() && !need; ++z)
-                for (int y = lo.y(); y < hi.y() && !need; ++y) {
-                  const std::uint8_t* row =
-                      &near[(static_cast<std::size_t>(z) * rn.y() + y) * rn.x()];
-                  need = std::any_of(row + lo.x(), row + hi.x(), [](std::uint8_t f) { return f; });
-                }
-              if (need) allocated.push_back(b);
-            }
-        if (allocated.empty()) continue;
-
-        // DT_v samples (grid axes, metres, as VdtMap::build) on the tile widened by the overlap,
-        // prefiltered there with natural ends.
-        const Index slo = (tlo - Index::Constant(ov)).cwiseMax(Index::Zero());
-        const Index shi = (thi + Index::Constant(ov)).cwiseMin(size);
-        const Index sn = shi - slo;
-        samples.resize(static_cast<std::size_t>(sn.prod()) * 3);
-        std::size_t c = 0;
-        for (int z = 0; z < sn.z(); ++z)
-          for (int y = 0; y < sn.y(); ++y)
-            for (int x = 0; x < sn.x(); ++x, ++c) {
-              const Index o = offset(Index(x, y, z) + slo - wlo);
-              for (int d = 0; d < 3; ++d) samples[3 * c + d] = static_cast<float>(o[d]) * res;
-            }
-        const CubicBSplineField<3, 3> field(sn, std::move(samples));
-        samples = std::vector<float>();
-        const float* coef = field.coefficients().data();
-        const Index padded = sn + Index::Constant(2);
-        for (const Index& b : allocated) {
-          owned->index[brick_linear(b, nb)] =
-              static_cast<std::int32_t>(owned->coefficients.size() / kBrickFloats);
-          const std::size_t at = owned->coefficients.size();
-          owned->coefficients.resize(at + kBrickFloats, 0.0F);
-          float* dst = owned->coefficients.data() + at;
-          for (int z = 0; z < kB; ++z)
-            for (int y = 0; y < kB; ++y)
-              for (int x = 0; x < kB; ++x) {
-                const Index g = b * kB + Index(x, y, z);
-                if ((g.array() >= size.array()).any()) continue;  // beyond the box: never used
-                const Index pn = g - slo + Index::Ones();         // padded node
-                const std::size_t src =
-                    ((static_cast<std::size_t>(pn.z()) * padded.y() + pn.y()) * padded.x() +
-                     pn.x()) *
-                    3;
-                std::memcpy(dst + ((z * kB + y) * kB + x) * 3, coef + src, 3 * sizeof(float));
-              }
+          });
         }
+    if (!any_feature) return;
+    const Grid<std::int32_t, 3> nearest = nearest_occupied_cells(window);
+    const auto offset = [&](const Index& w) {  // w - c(w), window voxels
+      return Index(w - nearest.index_of(nearest(w)));
+    };
+    for (int bz = b0.z(); bz < b1.z(); ++bz)
+      for (int by = b0.y(); by < b1.y(); ++by)
+        for (int bx = b0.x(); bx < b1.x(); ++bx) {
+          const Index c(bx, by, bz);
+          const Index j = nearest.index_of(nearest(coarse_voxel(c) - wlo)) + wlo;
+          for (int d = 0; d < 3; ++d) owned->coarse[3 * coarse_linear(c) + d] = j[d];
+          coarse_done[coarse_linear(c)] = 1;
+        }
+
+    // Nodes within near_radius of a feature, over the tile widened by the support.
+    const Index rlo = (tlo - Index::Constant(kSupport)).cwiseMax(Index::Zero());
+    const Index rhi = (thi + Index::Constant(kSupport)).cwiseMin(size);
+    const Index rn = rhi - rlo;
+    near.assign(static_cast<std::size_t>(rn.prod()), 0);
+    for (int z = 0; z < rn.z(); ++z)
+      for (int y = 0; y < rn.y(); ++y)
+        for (int x = 0; x < rn.x(); ++x) {
+          const Index v(x, y, z);
+          near[(static_cast<std::size_t>(z) * rn.y() + y) * rn.x() + x] =
+              offset(v + rlo - wlo).squaredNorm() <= near2;
+        }
+    // A brick is needed when a node within its support reach is near.
+    allocated.clear();
+    for (int bz = b0.z(); bz < b1.z(); ++bz)
+      for (int by = b0.y(); by < b1.y(); ++by)
+        for (int bx = b0.x(); bx < b1.x(); ++bx) {
+          const Index b(bx, by, bz);
+          const Index lo = (b * kB - Index::Constant(kSupport)).cwiseMax(rlo) - rlo;
+          const Index hi = (b * kB + Index::Constant(kB + kSupport)).cwiseMin(rhi) - rlo;
+          bool need = false;
+          for (int z = lo.z(); z < hi.z() && !need; ++z)
+            for (int y = lo.y(); y < hi.y() && !need; ++y) {
+              const std::uint8_t* row = &near[(static_cast<std::size_t>(z) * rn.y() + y) * rn.x()];
+              need = std::any_of(row + lo.x(), row + hi.x(), [](std::uint8_t f) { return f; });
+            }
+          if (need) allocated.push_back(b);
+        }
+    if (allocated.empty()) return;
+
+    // DT_v samples (grid axes, metres, as VdtMap::build) on the tile widened by the overlap,
+    // prefiltered there with natural ends.
+    const Index slo = (tlo - Index::Constant(ov)).cwiseMax(Index::Zero());
+    const Index shi = (thi + Index::Constant(ov)).cwiseMin(size);
+    const Index sn = shi - slo;
+    samples.resize(static_cast<std::size_t>(sn.prod()) * 3);
+    std::size_t c = 0;
+    for (int z = 0; z < sn.z(); ++z)
+      for (int y = 0; y < sn.y(); ++y)
+        for (int x = 0; x < sn.x(); ++x, ++c) {
+          const Index o = offset(Index(x, y, z) + slo - wlo);
+          for (int d = 0; d < 3; ++d) samples[3 * c + d] = static_cast<float>(o[d]) * res;
+        }
+    const CubicBSplineField<3, 3> field(sn, std::move(samples));
+    samples = std::vector<float>();
+    const float* coef = field.coefficients().data();
+    const Index padded = sn + Index::Constant(2);
+    out->coefficients.assign(allocated.size() * kBrickFloats, 0.0F);
+    for (std::size_t k = 0; k < allocated.size(); ++k) {
+      const Index& b = allocated[k];
+      float* dst = out->coefficients.data() + k * kBrickFloats;
+      for (int z = 0; z < kB; ++z)
+        for (int y = 0; y < kB; ++y)
+          for (int x = 0; x < kB; ++x) {
+            const Index g = b * kB + Index(x, y, z);
+            if ((g.array() >= size.array()).any()) continue;  // beyond the box: never used
+            const Index pn = g - slo + Index::Ones();         // padded node
+            const std::size_t src =
+                ((static_cast<std::size_t>(pn.z()) * padded.y() + pn.y()) * padded.x() + pn.x()) *
+                3;
+            std::memcpy(dst + ((z * kB + y) * kB + x) * 3, coef + src, 3 * sizeof(float));
+          }
+    }
+  };
+  // The tiles in batches, one tile per call of the pool, appended in tile order: the bricks and
+  // their order are the same for any thread count.
+  const std::size_t num_tiles = static_cast<std::size_t>(tiles.prod());
+  const std::size_t batch = static_cast<std::size_t>(threads()) * 4;
+  std::vector<TileBricks> done(batch);
+  for (std::size_t t0 = 0; t0 < num_tiles; t0 += batch) {
+    const std::size_t t1 = std::min(num_tiles, t0 + batch);
+    parallel_for(t1 - t0, [&](std::size_t k) {
+      const int t = static_cast<int>(t0 + k);  // x fastest, as the loops were
+      done[k] = TileBricks();
+      build_tile(t % tiles.x(), (t / tiles.x()) % tiles.y(), t / (tiles.x() * tiles.y()), &done[k]);
+    });
+    for (std::size_t k = 0; k < t1 - t0; ++k) {
+      const TileBricks& tb = done[k];
+      for (std::size_t i = 0; i < tb.allocated.size(); ++i) {
+        owned->index[brick_linear(tb.allocated[i], nb)] =
+            static_cast<std::int32_t>(owned->coefficients.size() / kBrickFloats);
+        owned->coefficients.insert(owned->coefficients.end(),
+                                   tb.coefficients.begin() + i * kBrickFloats,
+                                   tb.coefficients.begin() + (i + 1) * kBrickFloats);
       }
+      done[k] = TileBricks();
+    }
+  }
 
   // The coarse nodes no tile reached: the coarse feature transform of the feature bricks, then
   // the nearest feature voxel of the nearest brick.

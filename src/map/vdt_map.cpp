@@ -5,6 +5,7 @@
 #include <utility>
 
 #include "vdt_lookup_kernels.hpp"
+#include "vdtnav/core/parallel.hpp"
 
 namespace vdtnav {
 namespace {
@@ -16,19 +17,35 @@ void prefilter_axis(float* data, std::ptrdiff_t outer, int n, std::ptrdiff_t inn
   if (n < 3) return;                                         // c = f
   std::vector<float> cp(static_cast<std::size_t>(n), 0.0F);  // c'_k = 1 / (4 - c'_{k-1}), c'_0 = 0
   for (int k = 1; k < n - 1; ++k) cp[k] = 1.0F / (4.0F - cp[k - 1]);
-  for (std::ptrdiff_t o = 0; o < outer; ++o) {
-    float* block = data + o * n * inner;
-    for (int k = 1; k < n - 1; ++k) {
-      float* cur = block + k * inner;
-      const float* prev = cur - inner;
-      for (std::ptrdiff_t i = 0; i < inner; ++i) cur[i] = (6.0F * cur[i] - prev[i]) * cp[k];
+  // The lines are independent: the pool's threads take pieces of ~kWork floats, ranges of the
+  // inner lines of one block (the last axis: one block) or of whole blocks (the first: 1-3 lines
+  // a block). Each line's arithmetic is the same in any piece.
+  constexpr std::ptrdiff_t kWork = std::ptrdiff_t{1} << 16;
+  const std::ptrdiff_t inner_piece =
+      std::min<std::ptrdiff_t>(inner, std::max<std::ptrdiff_t>(1024, kWork / n));
+  const std::ptrdiff_t inner_pieces = (inner + inner_piece - 1) / inner_piece;
+  const std::ptrdiff_t outer_piece = std::max<std::ptrdiff_t>(1, kWork / (inner_piece * n));
+  const std::ptrdiff_t outer_pieces = (outer + outer_piece - 1) / outer_piece;
+  parallel_for(static_cast<std::size_t>(outer_pieces * inner_pieces), [&](std::size_t piece) {
+    const std::ptrdiff_t p = static_cast<std::ptrdiff_t>(piece);
+    const std::ptrdiff_t o0 = (p / inner_pieces) * outer_piece;
+    const std::ptrdiff_t o1 = std::min(outer, o0 + outer_piece);
+    const std::ptrdiff_t i0 = (p % inner_pieces) * inner_piece;
+    const std::ptrdiff_t i1 = std::min(inner, i0 + inner_piece);
+    for (std::ptrdiff_t o = o0; o < o1; ++o) {
+      float* block = data + o * n * inner;
+      for (int k = 1; k < n - 1; ++k) {
+        float* cur = block + k * inner;
+        const float* prev = cur - inner;
+        for (std::ptrdiff_t i = i0; i < i1; ++i) cur[i] = (6.0F * cur[i] - prev[i]) * cp[k];
+      }
+      for (int k = n - 2; k >= 1; --k) {
+        float* cur = block + k * inner;
+        const float* next = cur + inner;
+        for (std::ptrdiff_t i = i0; i < i1; ++i) cur[i] -= cp[k] * next[i];
+      }
     }
-    for (int k = n - 2; k >= 1; --k) {
-      float* cur = block + k * inner;
-      const float* next = cur + inner;
-      for (std::ptrdiff_t i = 0; i < inner; ++i) cur[i] -= cp[k] * next[i];
-    }
-  }
+  });
 }
 
 /// Fills the ghost layer along `axis` of a padded array [outer][n+2][inner] by linear
@@ -70,16 +87,19 @@ CubicBSplineField<Dim, Channels>::CubicBSplineField(const Index& size, std::vect
   coef_.assign(static_cast<std::size_t>(np * Channels), 0.0F);
   const std::ptrdiff_t line = static_cast<std::ptrdiff_t>(size[0]) * Channels;
   const std::ptrdiff_t lines = n / size[0];
-  for (std::ptrdiff_t l = 0; l < lines; ++l) {
-    Index node = Index::Ones();  // padded node of (0, l...)
-    std::ptrdiff_t rest = l;
-    for (int d = 1; d < Dim; ++d) {
-      node[d] = static_cast<int>(rest % size[d]) + 1;
-      rest /= size[d];
+  parallel_for_ranges(static_cast<std::size_t>(lines), 256, [&](std::size_t l0, std::size_t l1) {
+    for (std::ptrdiff_t l = static_cast<std::ptrdiff_t>(l0); l < static_cast<std::ptrdiff_t>(l1);
+         ++l) {
+      Index node = Index::Ones();  // padded node of (0, l...)
+      std::ptrdiff_t rest = l;
+      for (int d = 1; d < Dim; ++d) {
+        node[d] = static_cast<int>(rest % size[d]) + 1;
+        rest /= size[d];
+      }
+      std::copy(samples.begin() + l * line, samples.begin() + (l + 1) * line,
+                coef_.begin() + padded_offset(node));
     }
-    std::copy(samples.begin() + l * line, samples.begin() + (l + 1) * line,
-              coef_.begin() + padded_offset(node));
-  }
+  });
   inner = Channels;
   for (int d = 0; d < Dim; ++d) {
     const std::ptrdiff_t outer = np * Channels / (inner * padded_[d]);
@@ -125,15 +145,19 @@ VdtMap<Dim> VdtMap<Dim>::build(const OccupancyGrid<Dim>& occupied, bool all_occu
   // Samples of DT_v at the cell centres, in the grid's own axes (metres).
   std::vector<float> samples(nearest.num_cells() * Dim);
   const float res = static_cast<float>(occupied.resolution());
-  Index i = Index::Zero();
-  for (std::size_t c = 0; c < nearest.num_cells(); ++c) {
-    const Index j = nearest.index_of(nearest[c]);
-    for (int d = 0; d < Dim; ++d) samples[c * Dim + d] = static_cast<float>(i[d] - j[d]) * res;
-    for (int d = 0; d < Dim; ++d) {  // advance i (x fastest)
-      if (++i[d] < occupied.size()[d]) break;
-      i[d] = 0;
-    }
-  }
+  parallel_for_ranges(nearest.num_cells(), std::size_t{1} << 15,
+                      [&](std::size_t c0, std::size_t c1) {
+                        Index i = nearest.index_of(static_cast<std::ptrdiff_t>(c0));
+                        for (std::size_t c = c0; c < c1; ++c) {
+                          const Index j = nearest.index_of(nearest[c]);
+                          for (int d = 0; d < Dim; ++d)
+                            samples[c * Dim + d] = static_cast<float>(i[d] - j[d]) * res;
+                          for (int d = 0; d < Dim; ++d) {  // advance i (x fastest)
+                            if (++i[d] < occupied.size()[d]) break;
+                            i[d] = 0;
+                          }
+                        }
+                      });
   Field field(occupied.size(), std::move(samples));
   return VdtMap(std::move(nearest), std::move(field));
 }

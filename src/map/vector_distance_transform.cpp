@@ -5,6 +5,8 @@
 #include <limits>
 #include <vector>
 
+#include "vdtnav/core/parallel.hpp"
+
 namespace vdtnav {
 namespace {
 
@@ -175,12 +177,12 @@ class LineTransform {
   LowerEnvelope envelope_;
 };
 
-/// Forward sweep along the slowest axis, vectorised across the contiguous planes below it:
-/// out[c] = index along that axis of the last occupied cell at or before c in c's line, or
-/// kBefore if none.
-void previous_occupied(const std::uint8_t* occ, std::int32_t* out, std::ptrdiff_t plane, int n) {
-  std::vector<std::int32_t> mark(static_cast<std::size_t>(plane), kBefore);
-  for (int j = 0; j < n; ++j) {
+/// Forward sweep along the slowest axis over planes [j0, j1), vectorised across the contiguous
+/// planes below it: out[c] = index along that axis of the last occupied cell at or before c in
+/// c's line; `mark` holds, per line, the last one before j0 (kBefore if none) and is advanced.
+void previous_occupied(const std::uint8_t* occ, std::int32_t* out, std::ptrdiff_t plane, int j0,
+                       int j1, std::int32_t* mark) {
+  for (int j = j0; j < j1; ++j) {
     const std::uint8_t* o = occ + j * plane;
     std::int32_t* r = out + j * plane;
     for (std::ptrdiff_t i = 0; i < plane; ++i) {
@@ -223,29 +225,98 @@ inline void fill_run(std::int32_t* row, int begin, int end, int n, std::int32_t 
   }
 }
 
+/// Scratch of one block of planes: the line transform, and (3D) the squared distances of a plane
+/// (2D: those of a row are the line's own f()).
+template <typename Dist>
+struct BlockScratch {
+  BlockScratch(std::ptrdiff_t plane, int line_length, bool own_f)
+      : f(own_f ? static_cast<std::size_t>(plane) : 0), line(line_length) {}
+  [[nodiscard]] Dist* squared() noexcept { return f.empty() ? line.f() : f.data(); }
+  std::vector<Dist> f;
+  LineTransform<Dist> line;
+};
+
+/// Pass 1 and the passes of each plane over a grid of n planes of `plane` cells along its slowest
+/// axis, in blocks of consecutive planes that the pool's threads finish independently (one block
+/// with one thread: the sweeps as written). Pass 1 of a block needs, per line along the slowest
+/// axis, the last occupied index before the block, and its backward sweep the first one after
+/// it: each block finds its own first and last, then a block's seeds are its neighbours'. Every
+/// pass is exact, so the transform is the same for any blocks. slab_pass(slab, scratch) finishes
+/// a plane: its nearest cells along the slowest axis in, its features out (scratch.squared():
+/// their squared distances).
+template <typename Dist, typename SlabPass>
+void transform_in_blocks(const std::uint8_t* occ, std::int32_t* out, std::ptrdiff_t plane, int n,
+                         int line_length, bool own_f, SlabPass&& slab_pass) {
+  constexpr int kMinPlanes = 16;  // per block: the seeds cost a plane each
+  const int t = threads();
+  const int blocks = t > 1 ? std::max(1, std::min(4 * t, n / kMinPlanes)) : 1;
+  const auto begin = [n, blocks](std::size_t b) {
+    return static_cast<int>(std::int64_t{n} * static_cast<std::int64_t>(b) / blocks);
+  };
+  const std::size_t plane_size = static_cast<std::size_t>(plane);
+  // before[b]: per line, the last occupied index before block b; after[b]: the first after it.
+  std::vector<std::int32_t> before(blocks * plane_size, kBefore),
+      after(blocks * plane_size, kAfter);
+  if (blocks > 1) {
+    std::vector<std::int32_t> last(blocks * plane_size, kBefore),
+        first(blocks * plane_size, kAfter);
+    parallel_for(static_cast<std::size_t>(blocks), [&](std::size_t b) {
+      std::int32_t* l = last.data() + b * plane_size;
+      std::int32_t* f = first.data() + b * plane_size;
+      for (int j = begin(b); j < begin(b + 1); ++j) {
+        const std::uint8_t* o = occ + j * plane;
+        for (std::ptrdiff_t i = 0; i < plane; ++i) l[i] = o[i] ? j : l[i];
+      }
+      for (int j = begin(b + 1) - 1; j >= begin(b); --j) {
+        const std::uint8_t* o = occ + j * plane;
+        for (std::ptrdiff_t i = 0; i < plane; ++i) f[i] = o[i] ? j : f[i];
+      }
+    });
+    for (std::size_t b = 1; b < static_cast<std::size_t>(blocks); ++b) {
+      for (std::size_t i = 0; i < plane_size; ++i) {  // kBefore < every index < kAfter
+        before[b * plane_size + i] =
+            std::max(before[(b - 1) * plane_size + i], last[(b - 1) * plane_size + i]);
+      }
+    }
+    for (std::size_t b = static_cast<std::size_t>(blocks) - 1; b-- > 0;) {
+      for (std::size_t i = 0; i < plane_size; ++i) {
+        after[b * plane_size + i] =
+            std::min(after[(b + 1) * plane_size + i], first[(b + 1) * plane_size + i]);
+      }
+    }
+  }
+  parallel_for(static_cast<std::size_t>(blocks), [&](std::size_t b) {
+    const int j0 = begin(b), j1 = begin(b + 1);
+    BlockScratch<Dist> scratch(plane, line_length, own_f);
+    previous_occupied(occ, out, plane, j0, j1, before.data() + b * plane_size);
+    std::int32_t* next = after.data() + b * plane_size;
+    for (int j = j1 - 1; j >= j0; --j) {
+      std::int32_t* slab = out + j * plane;
+      nearest_occupied_at(occ + j * plane, j, next, slab, scratch.squared(), plane);
+      slab_pass(slab, scratch);
+    }
+  });
+}
+
 template <typename Dist>
 Grid<std::int32_t, 2> feature_transform_2d(const OccupancyGrid<2>& occ) {
   const int nx = occ.size()[0], ny = occ.size()[1];
   Grid<std::int32_t, 2> nearest(occ.size(), occ.frame());
-  std::int32_t* out = nearest.data();
   // Pass 1 (along y): row of the nearest occupied cell in the same column, finished row by row.
-  previous_occupied(occ.data(), out, nx, ny);
-  std::vector<std::int32_t> next(static_cast<std::size_t>(nx), kAfter);
   // Pass 2 (along x, contiguous rows): lower envelope over the columns, in place.
-  LineTransform<Dist> line(nx);
-  for (int y = ny - 1; y >= 0; --y) {
-    std::int32_t* row = out + static_cast<std::ptrdiff_t>(y) * nx;
-    nearest_occupied_at(occ.data() + static_cast<std::ptrdiff_t>(y) * nx, y, next.data(), row,
-                        line.f(), nx);
-    if (!line.build(nx, [row, nx](int x) { return x + nx * row[x]; })) {
-      std::fill(row, row + nx, kNoFeature);
-      continue;
-    }
-    line.envelope().for_each_segment(
-        nx, [row, nx](int begin, int end, int, std::int64_t, std::int32_t feature) {
-          fill_run(row, begin, end, nx, feature);
-        });
-  }
+  transform_in_blocks<Dist>(
+      occ.data(), nearest.data(), nx, ny, nx, /*own_f=*/false,
+      [nx](std::int32_t* row, BlockScratch<Dist>& scratch) {
+        LineTransform<Dist>& line = scratch.line;
+        if (!line.build(nx, [row, nx](int x) { return x + nx * row[x]; })) {
+          std::fill(row, row + nx, kNoFeature);
+          return;
+        }
+        line.envelope().for_each_segment(
+            nx, [row, nx](int begin, int end, int, std::int64_t, std::int32_t feature) {
+              fill_run(row, begin, end, nx, feature);
+            });
+      });
   return nearest;
 }
 
@@ -254,48 +325,45 @@ Grid<std::int32_t, 3> feature_transform_3d(const OccupancyGrid<3>& occ) {
   const int nx = occ.size()[0], ny = occ.size()[1], nz = occ.size()[2];
   const std::ptrdiff_t plane = static_cast<std::ptrdiff_t>(nx) * ny;
   Grid<std::int32_t, 3> nearest(occ.size(), occ.frame());
-  std::int32_t* out = nearest.data();
   // Pass 1 (along z): z of the nearest occupied cell in the same (x, y) column, finished slab by
   // slab; passes 2 and 3 then complete that slab while it is in cache.
-  previous_occupied(occ.data(), out, plane, nz);
-  std::vector<std::int32_t> next(static_cast<std::size_t>(plane), kAfter);
-  std::vector<Dist> slab_f(static_cast<std::size_t>(plane));  // squared distances of the slab
-  LineTransform<Dist> line(std::max(nx, ny));
-  Dist* f = line.f();
-  for (int z = nz - 1; z >= 0; --z) {
-    std::int32_t* slab = out + z * plane;
-    nearest_occupied_at(occ.data() + z * plane, z, next.data(), slab, slab_f.data(), plane);
-    // Pass 2 (along y): slab <- feature nearest in the (y, z) plane, slab_f <- its squared
-    // distance. The column is strided, but a slab's column stays in L1 for the next x.
-    for (int x = 0; x < nx; ++x) {
-      const auto at = [x, nx](int y) { return x + static_cast<std::ptrdiff_t>(y) * nx; };
-      for (int y = 0; y < ny; ++y) f[y] = slab_f[at(y)];
-      const bool any = line.build(
-          ny, [&](int y) { return static_cast<std::int32_t>(at(y) + slab[at(y)] * plane); });
-      if (!any) {
-        for (int y = 0; y < ny; ++y) slab[at(y)] = kNoFeature;  // slab_f stays NoSite
-        continue;
-      }
-      line.envelope().for_each_segment(
-          ny, [&](int begin, int end, int q, std::int64_t fq, std::int32_t feature) {
-            for (int y = begin; y < end; ++y) {
-              slab[at(y)] = feature;
-              const std::int64_t dy = y - q;
-              slab_f[at(y)] = static_cast<Dist>(dy * dy + fq);
-            }
-          });
-    }
-    // Pass 3 (along x, contiguous): lower envelope over the squared distances of pass 2.
-    for (int y = 0; y < ny; ++y) {
-      std::int32_t* row = slab + static_cast<std::ptrdiff_t>(y) * nx;
-      std::copy_n(slab_f.data() + static_cast<std::ptrdiff_t>(y) * nx, nx, f);
-      if (!line.build(nx, [row](int x) { return row[x]; })) continue;  // stays kNoFeature
-      line.envelope().for_each_segment(
-          nx, [row, nx](int begin, int end, int, std::int64_t, std::int32_t feature) {
-            fill_run(row, begin, end, nx, feature);
-          });
-    }
-  }
+  transform_in_blocks<Dist>(
+      occ.data(), nearest.data(), plane, nz, std::max(nx, ny), /*own_f=*/true,
+      [nx, ny, plane](std::int32_t* slab, BlockScratch<Dist>& scratch) {
+        LineTransform<Dist>& line = scratch.line;
+        Dist* f = line.f();
+        Dist* slab_f = scratch.f.data();  // squared distances of the slab
+        // Pass 2 (along y): slab <- feature nearest in the (y, z) plane, slab_f <- its squared
+        // distance. The column is strided, but a slab's column stays in L1 for the next x.
+        for (int x = 0; x < nx; ++x) {
+          const auto at = [x, nx](int y) { return x + static_cast<std::ptrdiff_t>(y) * nx; };
+          for (int y = 0; y < ny; ++y) f[y] = slab_f[at(y)];
+          const bool any = line.build(
+              ny, [&](int y) { return static_cast<std::int32_t>(at(y) + slab[at(y)] * plane); });
+          if (!any) {
+            for (int y = 0; y < ny; ++y) slab[at(y)] = kNoFeature;  // slab_f stays NoSite
+            continue;
+          }
+          line.envelope().for_each_segment(
+              ny, [&](int begin, int end, int q, std::int64_t fq, std::int32_t feature) {
+                for (int y = begin; y < end; ++y) {
+                  slab[at(y)] = feature;
+                  const std::int64_t dy = y - q;
+                  slab_f[at(y)] = static_cast<Dist>(dy * dy + fq);
+                }
+              });
+        }
+        // Pass 3 (along x, contiguous): lower envelope over the squared distances of pass 2.
+        for (int y = 0; y < ny; ++y) {
+          std::int32_t* row = slab + static_cast<std::ptrdiff_t>(y) * nx;
+          std::copy_n(slab_f + static_cast<std::ptrdiff_t>(y) * nx, nx, f);
+          if (!line.build(nx, [row](int x) { return row[x]; })) continue;  // stays kNoFeature
+          line.envelope().for_each_segment(
+              nx, [row, nx](int begin, int end, int, std::int64_t, std::int32_t feature) {
+                fill_run(row, begin, end, nx, feature);
+              });
+        }
+      });
   return nearest;
 }
 
@@ -384,22 +452,27 @@ Grid<float, Dim> signed_distance_transform(const OccupancyGrid<Dim>& occupied) {
 template <int Dim>
 OccupancyGrid<Dim> surface_cells(const OccupancyGrid<Dim>& occupied) {
   OccupancyGrid<Dim> surface(occupied.size(), occupied.frame(), 0);
-  bool any = false;
-  for (std::size_t c = 0; c < occupied.num_cells(); ++c) {
-    if (!occupied[c]) continue;
-    const auto i = occupied.index_of(static_cast<std::ptrdiff_t>(c));
-    bool exposed = false;
-    for (int d = 0; d < Dim && !exposed; ++d) {
-      for (int step : {-1, 1}) {
-        auto j = i;
-        j[d] += step;
-        if (occupied.contains(j) && !occupied(j)) exposed = true;
+  constexpr std::size_t kGrain = std::size_t{1} << 15;
+  std::vector<std::uint8_t> any((occupied.num_cells() + kGrain - 1) / kGrain, 0);
+  parallel_for_ranges(occupied.num_cells(), kGrain, [&](std::size_t c0, std::size_t c1) {
+    bool found = false;
+    for (std::size_t c = c0; c < c1; ++c) {
+      if (!occupied[c]) continue;
+      const auto i = occupied.index_of(static_cast<std::ptrdiff_t>(c));
+      bool exposed = false;
+      for (int d = 0; d < Dim && !exposed; ++d) {
+        for (int step : {-1, 1}) {
+          auto j = i;
+          j[d] += step;
+          if (occupied.contains(j) && !occupied(j)) exposed = true;
+        }
       }
+      surface[c] = exposed ? 1 : 0;
+      found |= exposed;
     }
-    surface[c] = exposed ? 1 : 0;
-    any |= exposed;
-  }
-  return any ? surface : occupied;
+    any[c0 / kGrain] = found ? 1 : 0;
+  });
+  return std::find(any.begin(), any.end(), 1) != any.end() ? surface : occupied;
 }
 
 template OccupancyGrid<2> surface_cells<2>(const OccupancyGrid<2>&);

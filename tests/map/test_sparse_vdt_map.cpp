@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "../thread_count.hpp"
 #include "vdtnav/io/sparse_vdt_map_file.hpp"
 #include "vdtnav/map/vdt_map.hpp"
 #include "vdtnav/map/vector_distance_transform.hpp"
@@ -293,6 +294,42 @@ TEST(SparseVdtMap, BuildsFromAVoxelListAndRefusesBadInput) {
   SparseVdtMapOptions o;
   o.band = -1.0;
   EXPECT_THROW((void)SparseVdtMap3::build(wall, f, Eigen::Vector3i(40, 30, 20), o), ConfigError);
+}
+
+TEST(SparseVdtMap, TheSameBricksForAnyThreadCount) {
+  // A box of 3 x 3 x 1 build tiles (64 voxels a side) with walls, pillars and scattered voxels:
+  // tiles built at once on the pool's threads, appended in tile order, must give the bricks, their
+  // order, their coefficients and the coarse level of one thread, bit for bit.
+  const Eigen::Vector3i size(150, 140, 40);
+  const GridFrame<3> f(0.1, Eigen::Vector3d::Zero());
+  std::vector<Eigen::Vector3i> occupied;
+  std::mt19937 rng(11);
+  std::uniform_int_distribution<int> ux(0, size.x() - 1), uy(0, size.y() - 1), uz(0, size.z() - 1);
+  for (int z = 0; z < size.z(); ++z) {
+    for (int y = 0; y < size.y(); ++y) occupied.emplace_back(70, y, z);  // a wall across tiles
+    for (int x = 0; x < 60; ++x) occupied.emplace_back(x, 100, z);
+    for (int k = 0; k < 3; ++k) occupied.emplace_back(120 + k, 20, z);  // a pillar
+  }
+  for (int k = 0; k < 200; ++k) occupied.emplace_back(ux(rng), uy(rng), uz(rng));
+  const auto build = [&](int t) {
+    const test::ThreadCount count(t);
+    return SparseVdtMap3::build(occupied, f, size);
+  };
+  const SparseVdtMap3 one = build(1);
+  const std::size_t boxes = static_cast<std::size_t>(((size.array() + 7) / 8).prod());
+  ASSERT_GT(one.bricks().num_bricks, 100u);
+  for (const int t : {2, 3}) {
+    const SparseVdtMap3 m = build(t);
+    const auto& a = one.bricks();
+    const auto& b = m.bricks();
+    ASSERT_EQ(a.num_bricks, b.num_bricks) << t << " threads";
+    EXPECT_EQ(std::memcmp(a.index, b.index, boxes * sizeof(std::int32_t)), 0) << t;
+    EXPECT_EQ(std::memcmp(a.coarse, b.coarse, 3 * boxes * sizeof(std::int32_t)), 0) << t;
+    EXPECT_EQ(std::memcmp(a.coefficients, b.coefficients,
+                          a.num_bricks * SparseVdtMap3::kBrickFloats * sizeof(float)),
+              0)
+        << t << " threads";
+  }
 }
 
 std::string tmp_path(const std::string& name) {

@@ -5,8 +5,11 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <random>
 #include <vector>
+
+#include "../thread_count.hpp"
 
 namespace vdtnav {
 namespace {
@@ -233,6 +236,28 @@ TYPED_TEST(VdtMapTest, NearestPointQueryIsExact) {
     }
     ASSERT_NEAR((occ.cell_center(cell) - (p - s.value)).norm(), best, 1e-9);
     ASSERT_TRUE(s.jacobian.isIdentity());
+  }
+}
+
+TYPED_TEST(VdtMapTest, TheSameMapForAnyThreadCount) {
+  // Large enough that the samples, the surface cells and every axis's prefilter are cut into
+  // pieces for the pool's threads: each piece's arithmetic is the same, so the coefficients are
+  // bit for bit those of one thread.
+  constexpr int kDim = TestFixture::kDim;
+  const auto occ = TestFixture::room(0.0, kDim == 2 ? 1200 : 48);
+  std::vector<float> one;
+  {
+    const test::ThreadCount count(1);
+    const auto map = VdtMap<kDim>::build(occ);
+    one = map.field().coefficients();
+  }
+  for (const int t : {2, 3}) {
+    const test::ThreadCount count(t);
+    const auto map = VdtMap<kDim>::build(occ);
+    ASSERT_EQ(map.field().coefficients().size(), one.size());
+    EXPECT_EQ(
+        std::memcmp(map.field().coefficients().data(), one.data(), one.size() * sizeof(float)), 0)
+        << t << " threads";
   }
 }
 

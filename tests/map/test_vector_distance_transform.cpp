@@ -10,6 +10,8 @@
 #include <random>
 #include <vector>
 
+#include "../thread_count.hpp"
+
 namespace vdtnav {
 namespace {
 
@@ -272,6 +274,48 @@ TYPED_TEST(VectorDistanceTransformTest, SurfaceCellsGiveTheSameTransformOutsideO
   const auto s = surface_cells(block);
   EXPECT_FALSE(s(TestFixture::Index::Constant(3)));
   EXPECT_TRUE(s(TestFixture::Index::Constant(1)));
+}
+
+TYPED_TEST(VectorDistanceTransformTest, ExactAndTheSameForAnyThreadCount) {
+  // Grids long enough along the slowest axis to be cut into blocks of planes (16 at least), with
+  // lines whose nearest occupied cell lies blocks away: the seeds a block takes from the others.
+  constexpr int kDim = TestFixture::kDim;
+  using Index = typename TestFixture::Index;
+  Index size;
+  if constexpr (kDim == 2) {
+    size = Index(37, 211);
+  } else {
+    size = Index(9, 7, 131);
+  }
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> uni(0.0, 1.0);
+  std::vector<OccupancyGrid<kDim>> grids;
+  for (const double p : {0.05, 0.002}) {
+    auto occ = TestFixture::make(size);
+    for (auto& v : occ.values()) v = uni(rng) < p ? 1 : 0;
+    occ[occ.num_cells() / 3] = 1;
+    grids.push_back(occ);
+  }
+  auto one_plane = TestFixture::make(size);  // every line's site is in one block
+  for (std::size_t c = 0; c < one_plane.num_cells(); ++c) {
+    one_plane[c] = one_plane.index_of(static_cast<std::ptrdiff_t>(c))[kDim - 1] == 5 ? 1 : 0;
+  }
+  grids.push_back(one_plane);
+  for (const auto& occ : grids) {
+    std::vector<std::int32_t> one;
+    {
+      const test::ThreadCount count(1);
+      const auto nearest = nearest_occupied_cells(occ);
+      one.assign(nearest.data(), nearest.data() + nearest.num_cells());
+    }
+    for (const int t : {2, 3, 5}) {
+      const test::ThreadCount count(t);
+      const auto nearest = nearest_occupied_cells(occ);
+      ASSERT_TRUE(std::equal(one.begin(), one.end(), nearest.data())) << t << " threads";
+    }
+    const test::ThreadCount count(3);
+    TestFixture::expect_exact_distances(occ);
+  }
 }
 
 }  // namespace
