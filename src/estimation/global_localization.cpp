@@ -8,6 +8,7 @@
 #include <random>
 
 #include "vdtnav/core/error.hpp"
+#include "vdtnav/core/parallel.hpp"
 #include "vdtnav/core/pose2.hpp"
 #include "vdtnav/estimation/guess_search.hpp"
 
@@ -226,23 +227,33 @@ GlobalLocalizer::Search GlobalLocalizer::start(const ScanPoints& scan, const Pos
   s.offsets_.resize(static_cast<std::size_t>(angles));
   for (int a = 0; a < angles; ++a) offsets(r, a * 2.0 * kPi / angles, &s.offsets_[a]);
   s.step_ = 2.0 * kPi / angles;
+  const int span = 1 << levels_;
+  for (int y = 0; y < height_; y += span) {
+    for (int x = 0; x < width_; x += span) {
+      if (free_[levels_][static_cast<std::size_t>(y) * width_ + x] != 0)
+        s.root_cells_.emplace_back(x, y);
+    }
+  }
   s.phase_ = Search::Phase::kRoots;
   s.seconds_ = since(t0);
   return s;
 }
 
-void GlobalLocalizer::Search::children(const Node& node, double stop_at, std::vector<Node>* out) {
+std::size_t GlobalLocalizer::Search::children(const Node& node, double stop_at,
+                                              std::vector<Node>* out) const {
   const int k = node.level - 1, half = 1 << k;
+  std::size_t scored = 0;
   for (int dy : {0, half}) {
     for (int dx : {0, half}) {
       const int cx = node.cx + dx, cy = node.cy + dy;
       if (cx >= g_->width_ || cy >= g_->height_) continue;
       if (g_->free_[k][static_cast<std::size_t>(cy) * g_->width_ + cx] == 0) continue;
       const double lb = g_->bound(k, cx, cy, offsets_[node.angle], stop_at);
-      ++nodes_;
+      ++scored;
       if (lb <= stop_at) out->push_back({lb, node.angle, k, cx, cy});
     }
   }
+  return scored;
 }
 
 bool GlobalLocalizer::Search::step(std::size_t boxes) {
@@ -251,26 +262,28 @@ bool GlobalLocalizer::Search::step(std::size_t boxes) {
   constexpr std::size_t kMax = std::numeric_limits<std::size_t>::max();
   const std::size_t stop = boxes >= kMax - nodes_ ? kMax : nodes_ + std::max<std::size_t>(boxes, 1);
   const GlobalLocalizer& g = *g_;
-  const int levels = g.levels_, span = 1 << levels;
-  const int angles = static_cast<int>(offsets_.size());
-  // 1. The roots: every free box of the coarsest level at every heading.
-  while (phase_ == Phase::kRoots && nodes_ < stop) {
-    if (cursor_angle_ >= angles) {
-      phase_ = Phase::kGreedy;
-      break;
-    }
-    if (g.free_[levels][static_cast<std::size_t>(cursor_y_) * g.width_ + cursor_x_] != 0) {
-      roots_.push_back({g.bound(levels, cursor_x_, cursor_y_, offsets_[cursor_angle_]),
-                        cursor_angle_, levels, cursor_x_, cursor_y_});
-      ++nodes_;
-    }
-    if ((cursor_x_ += span) >= g.width_) {
-      cursor_x_ = 0;
-      if ((cursor_y_ += span) >= g.height_) {
-        cursor_y_ = 0;
-        ++cursor_angle_;
+  const int levels = g.levels_;
+  // 1. The roots: every free box of the coarsest level at every heading, as many as the budget
+  // allows, bounded on the pool's threads (each into its own place: the same for any count).
+  if (phase_ == Phase::kRoots) {
+    const std::size_t cells = root_cells_.size();
+    const std::size_t total = cells * offsets_.size();
+    const std::size_t count = std::min(total - cursor_, stop - nodes_);
+    const std::size_t first = roots_.size();
+    roots_.resize(first + count);
+    parallel_for_ranges(count, 256, [&](std::size_t k0, std::size_t k1) {
+      for (std::size_t k = k0; k < k1; ++k) {
+        const std::size_t item = cursor_ + k;
+        const int angle = static_cast<int>(item / cells);
+        const Eigen::Vector2i& c = root_cells_[item % cells];
+        roots_[first + k] = {
+            g.bound(levels, c.x(), c.y(), offsets_[static_cast<std::size_t>(angle)]), angle, levels,
+            c.x(), c.y()};
       }
-    }
+    });
+    cursor_ += count;
+    nodes_ += count;
+    if (cursor_ >= total && nodes_ < stop) phase_ = Phase::kGreedy;
   }
   // 2. A first leaf by greedy descent from the best few roots: every leaf worth popping (the best
   // and its alternatives) scores at most its score plus the margin, so nodes bounded above that
@@ -281,34 +294,47 @@ bool GlobalLocalizer::Search::step(std::size_t boxes) {
     const std::size_t tries = std::min<std::size_t>(order.size(), 16);
     std::partial_sort(order.begin(), order.begin() + static_cast<std::ptrdiff_t>(tries),
                       order.end(), [](const Node& a, const Node& b) { return a.lb < b.lb; });
-    for (std::size_t t = 0; t < tries; ++t) {
+    // The descents on the pool's threads, each into its own place, combined in order.
+    std::vector<double> leaf(tries, std::numeric_limits<double>::infinity());
+    std::vector<std::size_t> scored(tries, 0);
+    parallel_for(tries, [&](std::size_t t) {
+      std::vector<Node> kids;
       Node node = order[t];
       while (node.level > leaf_level_) {
-        kids_.clear();
-        children(node, std::numeric_limits<double>::infinity(), &kids_);
-        if (kids_.empty()) break;
-        node = *std::min_element(kids_.begin(), kids_.end(),
+        kids.clear();
+        scored[t] += children(node, std::numeric_limits<double>::infinity(), &kids);
+        if (kids.empty()) break;
+        node = *std::min_element(kids.begin(), kids.end(),
                                  [](const Node& a, const Node& b) { return a.lb < b.lb; });
       }
-      if (node.level == leaf_level_) greedy = std::min(greedy, node.lb);
+      if (node.level == leaf_level_) leaf[t] = node.lb;
+    });
+    for (std::size_t t = 0; t < tries; ++t) {
+      greedy = std::min(greedy, leaf[t]);
+      nodes_ += scored[t];
     }
     limit_ = std::min(greedy + g.options_.alternative_margin * n_tau2_, cap_);
+    open_.reset(limit_);  // no box above the limit is ever pushed
     for (const Node& n : roots_) {
-      if (n.lb <= limit_) heap_.push_back(n);
+      if (n.lb <= limit_) open_.push(n);
     }
-    std::make_heap(heap_.begin(), heap_.end());
     roots_ = std::vector<Node>();
     phase_ = Phase::kBestFirst;
   }
-  // 3. Best-first: leaves pop in order of score; keep the best and distinct alternatives.
+  // 3. Best-first: leaves pop in order of score; keep the best and distinct alternatives. With
+  // threads, a search run to its end (run(), localize()) expands inner boxes in batches of 64 a
+  // thread (about 1 us each). A step with a budget (a tracker's anytime search) expands them one
+  // at a time: a batch scores boxes past the last leaf, and the step a search ends in must not
+  // depend on the thread count.
+  const std::size_t batch =
+      boxes == kMax && threads() > 1 ? 64 * static_cast<std::size_t>(threads()) : 1;
   while (phase_ == Phase::kBestFirst && nodes_ < stop) {
-    if (heap_.empty() || heap_.front().lb > limit_) {
+    if (open_.empty() || open_.top().lb > limit_) {
       phase_ = Phase::kDone;
       break;
     }
-    std::pop_heap(heap_.begin(), heap_.end());
-    const Node node = heap_.back();
-    heap_.pop_back();
+    const Node node = open_.top();
+    open_.pop();
     if (node.level == leaf_level_) {
       // The leaf box's centre (its cells clipped to the map).
       const double half = 0.5 * ((1 << leaf_level_) - 1);
@@ -327,14 +353,31 @@ bool GlobalLocalizer::Search::step(std::size_t boxes) {
       if (static_cast<int>(poses_.size()) >= g.options_.candidates) phase_ = Phase::kDone;
       continue;
     }
-    kids_.clear();
-    children(node, limit_, &kids_);
-    for (const Node& k : kids_) {
-      heap_.push_back(k);
-      std::push_heap(heap_.begin(), heap_.end());
+    // An inner box: it and the inner boxes next in the queue's order (up to `batch`, and before
+    // any leaf in the queue) are expanded at once on the pool's threads, their children pushed
+    // in order. A leaf is taken only from the top, when every box ordered before it has been
+    // expanded, so the leaves come in the one order of their keys (Node::operator<) for any
+    // batch. What a batch expands past a leaf its own expansions find is expanded by one thread
+    // later too, but for the batches that find the first leaf (which lowers the limit) and the
+    // last: a whole run scores at most two batches' boxes more than one thread.
+    batch_.assign(1, node);
+    while (batch_.size() < batch && !open_.empty() && open_.top().level > leaf_level_ &&
+           open_.top().lb <= limit_) {
+      batch_.push_back(open_.top());
+      open_.pop();
+    }
+    kids_.resize(batch_.size());
+    scored_.assign(batch_.size(), 0);
+    parallel_for(batch_.size(), [&](std::size_t b) {
+      kids_[b].clear();
+      scored_[b] = children(batch_[b], limit_, &kids_[b]);
+    });
+    for (std::size_t b = 0; b < batch_.size(); ++b) {
+      nodes_ += scored_[b];
+      for (const Node& k : kids_[b]) open_.push(k);
     }
   }
-  if (done()) heap_ = std::vector<Node>();
+  if (done()) open_ = BoxQueue();
   seconds_ += since(t0);
   return done();
 }
@@ -421,23 +464,27 @@ GlobalLocalizationResult GlobalLocalizer::decide(const ScanPoints& scan,
   GlobalLocalizationResult out;
   struct Refined {
     LocalizationResult result;
-    double score, explained;
+    double score = 0.0, explained = 0.0;
   };
-  std::vector<Refined> refined;
   const VdtSensorModel& model = optimizer_.sensor_model();
-  for (const Pose2& s : starts) {
-    Refined f;
-    f.result = optimizer_.solve(scan, s);
+  // The starts refined on the pool's threads, each into its own place, kept in order.
+  std::vector<Refined> solved(starts.size());
+  parallel_for(starts.size(), [&](std::size_t k) {
+    Refined& f = solved[k];
+    f.result = optimizer_.solve(scan, starts[k]);
     if (f.result.status == LocalizationStatus::kNotConverged) {
       // Stopped at its iteration limit from a start a cell and a heading step away: once more.
       const int spent = f.result.iterations;
       f.result = optimizer_.solve(scan, f.result.pose);
       f.result.iterations += spent;
     }
-    if (f.result.status == LocalizationStatus::kDiverged) continue;
+    if (f.result.status == LocalizationStatus::kDiverged) return;
     f.score = truncated_vcd(model, scan, f.result.pose, options_.truncation);
     f.explained = explained_fraction(model, scan, f.result.pose, options_.explained_distance);
-    refined.push_back(f);
+  });
+  std::vector<Refined> refined;
+  for (Refined& f : solved) {
+    if (f.result.status != LocalizationStatus::kDiverged) refined.push_back(std::move(f));
   }
   if (refined.empty()) {
     out.result.status = LocalizationStatus::kRefused;

@@ -1,11 +1,14 @@
 #include "vdtnav/estimation/multi_start.hpp"
 
 #include <algorithm>
+#include <cstdint>
 #include <limits>
+#include <mutex>
 #include <random>
 #include <utility>
 
 #include "scan_scores.hpp"
+#include "vdtnav/core/parallel.hpp"
 
 namespace vdtnav {
 
@@ -48,9 +51,8 @@ LocalizationResult3 solve_multi_start(const VdtOptimizer3& optimizer,
   double best_score = usable(best) ? truncated_vcd(model, observations, best.pose, o.truncation)
                                    : std::numeric_limits<double>::infinity();
   int iterations = best.iterations;
-  // Solves from `start`; keeps the solution if it scores lower. \return true if it was kept.
-  const auto try_start = [&](const Pose3& start) {
-    LocalizationResult3 r = solve(start);
+  // Keeps a solution if it scores lower. \return true if it was kept.
+  const auto keep = [&](LocalizationResult3 r) {
     iterations += r.iterations;
     if (!usable(r)) return false;
     const double score = truncated_vcd(model, observations, r.pose, o.truncation);
@@ -59,18 +61,49 @@ LocalizationResult3 solve_multi_start(const VdtOptimizer3& optimizer,
     best_score = score;
     return true;
   };
+  const auto try_start = [&](const Pose3& start) { return keep(solve(start)); };
+  // Solves from the starts on the pool's threads, each start's solution kept or not in the
+  // starts' order as soon as those before it are (so the threads never wait for a round), up to
+  // the first kept solution that is good enough; starts after it not yet begun are skipped, the
+  // solves under way dropped uncounted: the result of any thread count is the result of one.
+  // \return whether it stopped so.
+  const auto try_starts = [&](const std::vector<Pose3>& starts) {
+    const std::size_t n = starts.size();
+    std::vector<LocalizationResult3> solved(n);
+    std::vector<std::uint8_t> ready(n, 0);
+    std::size_t next = 0;     // the first start not yet kept or dropped
+    std::size_t stop_at = n;  // the start that stopped the search (n: none)
+    std::mutex order;
+    parallel_for(n, [&](std::size_t i) {
+      {
+        const std::lock_guard<std::mutex> lock(order);
+        if (i > stop_at) return;
+      }
+      LocalizationResult3 r = solve(starts[i]);
+      const std::lock_guard<std::mutex> lock(order);
+      solved[i] = std::move(r);
+      ready[i] = 1;
+      while (next < n && stop_at == n && ready[next] != 0) {
+        if (keep(std::move(solved[next])) && good_enough(best)) stop_at = next;
+        ++next;
+      }
+    });
+    return stop_at < n;
+  };
   // The estimated axes of the left perturbation (dt, dtheta): all six, or x, y, z, yaw.
   const bool four_dof = optimizer.options().four_dof;
+  std::vector<Pose3> axis_starts;
   for (int axis = 0; axis < 6; ++axis) {
     if (four_dof && (axis == 3 || axis == 4)) continue;
     for (const double sign : {1.0, -1.0}) {
       Vector6d delta = Vector6d::Zero();
       delta[axis] = sign * (axis < 3 ? o.offset_translation : o.offset_rotation);
-      if (try_start(oplus(guess, delta)) && good_enough(best)) {
-        best.iterations = iterations;
-        return best;
-      }
+      axis_starts.push_back(oplus(guess, delta));
     }
+  }
+  if (try_starts(axis_starts)) {
+    best.iterations = iterations;
+    return best;
   }
   // Sparse sets: hops from the best solution so far, uniform in +-offset per axis, each solve
   // kept when it lowers the score. A fixed seed keeps the result a function of the input.
@@ -91,7 +124,7 @@ LocalizationResult3 solve_multi_start(const VdtOptimizer3& optimizer,
     // by their subsample score, solve those with every reading (try_start keeps the best overall).
     const std::size_t step = std::max<std::size_t>(1, observations.size() / o.screen_readings);
     const ObservationSet<3> sub = observations.subsampled(step);
-    std::vector<std::pair<double, Pose3>> screened;
+    std::vector<Pose3> grid;
     const int n = o.attitude_grid;
     for (int i = four_dof ? 0 : -n; i <= (four_dof ? 0 : n); ++i) {
       for (int j = four_dof ? 0 : -n; j <= (four_dof ? 0 : n); ++j) {
@@ -99,21 +132,30 @@ LocalizationResult3 solve_multi_start(const VdtOptimizer3& optimizer,
           if (i == 0 && j == 0 && k == 0) continue;
           Vector6d delta = Vector6d::Zero();
           delta.tail<3>() = o.attitude_grid_step * Eigen::Vector3d(i, j, k);
-          const LocalizationResult3 r = optimizer.solve(sub, oplus(guess, delta));
-          iterations += r.iterations;
-          if (!usable(r)) continue;
-          screened.emplace_back(truncated_vcd(model, sub, r.pose, o.truncation), r.pose);
+          grid.push_back(oplus(guess, delta));
         }
       }
     }
-    const std::size_t keep = std::min<std::size_t>(
+    // Every attitude at once on the pool's threads, then screened in the grid's order.
+    std::vector<LocalizationResult3> solved(grid.size());
+    std::vector<double> scores(grid.size());
+    parallel_for(grid.size(), [&](std::size_t g) {
+      solved[g] = optimizer.solve(sub, grid[g]);
+      if (usable(solved[g])) scores[g] = truncated_vcd(model, sub, solved[g].pose, o.truncation);
+    });
+    std::vector<std::pair<double, Pose3>> screened;
+    for (std::size_t g = 0; g < grid.size(); ++g) {
+      iterations += solved[g].iterations;
+      if (usable(solved[g])) screened.emplace_back(scores[g], solved[g].pose);
+    }
+    const std::size_t kept = std::min<std::size_t>(
         screened.size(), static_cast<std::size_t>(std::max(o.screen_keep, 0)));
-    std::partial_sort(screened.begin(), screened.begin() + static_cast<std::ptrdiff_t>(keep),
+    std::partial_sort(screened.begin(), screened.begin() + static_cast<std::ptrdiff_t>(kept),
                       screened.end(),
                       [](const auto& a, const auto& b) { return a.first < b.first; });
-    for (std::size_t c = 0; c < keep; ++c) {
-      if (try_start(screened[c].second) && good_enough(best)) break;
-    }
+    std::vector<Pose3> finalists;
+    for (std::size_t c = 0; c < kept; ++c) finalists.push_back(screened[c].second);
+    (void)try_starts(finalists);
   }
   best.iterations = iterations;
   return best;

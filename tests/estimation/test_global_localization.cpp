@@ -12,6 +12,7 @@
 #include <random>
 #include <vector>
 
+#include "../thread_count.hpp"
 #include "scan_fixture.hpp"
 #include "vdtnav/core/error.hpp"
 #include "vdtnav/sim/ray_casting.hpp"
@@ -245,6 +246,9 @@ TEST(GlobalLocalization, BadOptionsAndEmptyScans) {
 }
 
 TEST(GlobalLocalization, AnAnytimeSearchSpreadOverStepsFindsWhatOneRunFinds) {
+  // One thread: a whole run's batches (threads) score a few more boxes than steps do
+  // (TheSameResultForAnyThreadCount covers the threads).
+  const test::ThreadCount one_thread(1);
   const auto& w = test::world();
   const GlobalLocalizer loc(w.map, w.plan.occupancy);
   std::mt19937 rng(7);
@@ -277,6 +281,61 @@ TEST(GlobalLocalization, AnAnytimeSearchSpreadOverStepsFindsWhatOneRunFinds) {
                  std::abs(wrap_angle(l[2] - truth[2])) < 0.1;
       }
       EXPECT_TRUE(found) << trial << " " << leaf;
+    }
+  }
+}
+
+TEST(GlobalLocalization, TheSameResultForAnyThreadCount) {
+  // The roots, the greedy descents, the best-first expansions (in batches) and the refinements
+  // run on the pool's threads: the leaves, their order and the refined pose are those of one
+  // thread, also for a search spread over steps. The boxes a whole run scores may exceed one
+  // thread's by two batches' expansions (64 boxes a thread, 4 children each); a search in
+  // budgeted steps (a tracker's) scores exactly one thread's.
+  const auto& w = test::world();
+  const GlobalLocalizer loc(w.map, w.plan.occupancy);
+  std::mt19937 rng(21);
+  for (int trial = 0; trial < 3; ++trial) {
+    const Pose2 truth = random_free_pose(w.plan.occupancy, w.map, rng, 0.4);
+    const ScanPoints scan = scan_in(w.plan.occupancy, truth, 0.01, rng);
+    const auto search = [&](int t, std::size_t budget) {
+      const test::ThreadCount count(t);
+      GlobalLocalizer::Search s = loc.start(scan);
+      while (!s.step(budget)) {
+      }
+      return s;
+    };
+    const auto run = [&](int t) {
+      const test::ThreadCount count(t);
+      return loc.localize(scan);
+    };
+    const GlobalLocalizer::Search one = search(1, std::numeric_limits<std::size_t>::max());
+    const GlobalLocalizationResult refined = run(1);
+    ASSERT_GT(one.nodes(), 1000u);
+    ASSERT_FALSE(one.leaves().empty());
+    for (const int t : {2, 3}) {
+      for (const std::size_t budget :
+           {std::numeric_limits<std::size_t>::max(), std::size_t{3000}}) {
+        const GlobalLocalizer::Search s = search(t, budget);
+        ASSERT_EQ(s.leaves().size(), one.leaves().size()) << trial << ", " << t << " threads";
+        for (std::size_t k = 0; k < one.leaves().size(); ++k) {
+          EXPECT_EQ(s.leaves()[k], one.leaves()[k]) << trial << ", " << t << " threads, " << k;
+        }
+        EXPECT_EQ(s.best_leaf_score(), one.best_leaf_score());
+        if (budget == 3000) {
+          EXPECT_EQ(s.nodes(), one.nodes());  // a budgeted step expands one box at a time
+        } else {
+          EXPECT_GE(s.nodes(), one.nodes());
+          EXPECT_LE(s.nodes(), one.nodes() + 2u * 4u * 64u * static_cast<std::size_t>(t));
+        }
+      }
+      const GlobalLocalizationResult r = run(t);
+      EXPECT_EQ(r.best_leaf, refined.best_leaf) << trial << ", " << t << " threads";
+      EXPECT_EQ(r.result.status, refined.result.status);
+      EXPECT_EQ(r.result.pose, refined.result.pose);
+      EXPECT_EQ(r.result.iterations, refined.result.iterations);
+      EXPECT_EQ(r.explained, refined.explained);
+      EXPECT_EQ(r.ambiguous, refined.ambiguous);
+      EXPECT_EQ(r.alternatives, refined.alternatives);
     }
   }
 }

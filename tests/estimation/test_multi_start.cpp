@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <random>
 
+#include "../thread_count.hpp"
 #include "cloud_fixture.hpp"
 
 namespace vdtnav {
@@ -72,6 +73,75 @@ TEST(MultiStart, SparseCloudsFromScenarioCReachTheTargetAndFitAtLeastAsWellAsOne
   // Table 3.4's target: 95 % success. (Not "at least as often as one solve": 2 of the 48 clouds
   // fit a pose 0.45 m off better than the one solve's right pose, 1 the other way round.)
   EXPECT_GE(ok_multi * 100, 95 * trials);
+}
+
+TEST(MultiStart, TheSameResultForAnyThreadCount) {
+  // The axis starts are solved as many at once as the pool has threads and kept in order (the
+  // solves after the first good enough one dropped), the attitude grid all at once: the pose,
+  // status and iteration count are those of one thread. Sparse clouds (every start, the hops)
+  // and a dense one 0.3 rad off (the attitude grid on a subsample).
+  const VdtOptimizer3 opt(world3().map);
+  MultiStartOptions grid;
+  grid.accept_fraction = 1.01;  // never good enough: every start, the grid and its finalists
+  grid.attitude_grid = 1;
+  grid.attitude_grid_step = 0.3;
+  struct Case {
+    ObservationSet3 cloud;
+    Pose3 guess;
+    MultiStartOptions options;
+    int more_than = 100;  // iterations: more than the first solve's (~10-70), starts were tried
+  };
+  std::vector<Case> cases;
+  for (int k = 0; k < 2; ++k) {
+    const Pose3 truth = test::cloud_pose(k);
+    std::mt19937 rng(40 + k);
+    Vector6d off = Vector6d::Zero();
+    off << 0.2, -0.2, 0.2, 0.1, -0.1, 0.1;
+    cases.push_back(
+        {test::simulate_cloud(truth, 0.025, rng).subsampled(100), oplus(truth, off), {}});
+    off.setZero();
+    off.tail<3>() = Eigen::Vector3d(0.3, -0.3, 0.3);
+    cases.push_back(
+        {test::simulate_cloud(truth, 0.025, rng).subsampled(8), oplus(truth, off), grid});
+  }
+  // Dense clouds from guesses the first solve misses but an axis start reaches: the search stops
+  // inside the list of starts (inside a batch of two or three), which the iterations show.
+  MultiStartOptions never = MultiStartOptions();
+  never.accept_fraction = 1.01;
+  int stopped_inside = 0;
+  for (int k = 0; k < 3; ++k) {
+    const Pose3 truth = test::cloud_pose(k);
+    std::mt19937 rng(60 + k);
+    const ObservationSet3 cloud = test::simulate_cloud(truth, 0.025, rng).subsampled(8);
+    for (const double yaw : {-0.4, 0.5}) {
+      Vector6d off = Vector6d::Zero();
+      off << 0.6 * yaw, 0.3, 0.0, 0.0, 0.0, yaw;
+      const Pose3 guess = oplus(truth, off);
+      const test::ThreadCount count(1);
+      const LocalizationResult3 first = VdtOptimizer3(world3().map).solve(cloud, guess);
+      const LocalizationResult3 some = solve_multi_start(opt, cloud, guess);
+      const LocalizationResult3 all = solve_multi_start(opt, cloud, guess, never);
+      if (some.iterations > first.iterations && some.iterations < all.iterations) {
+        ++stopped_inside;
+        cases.push_back({cloud, guess, {}, first.iterations});
+      }
+    }
+  }
+  EXPECT_GE(stopped_inside, 2);
+  for (std::size_t c = 0; c < cases.size(); ++c) {
+    const auto run = [&](int t) {
+      const test::ThreadCount count(t);
+      return solve_multi_start(opt, cases[c].cloud, cases[c].guess, cases[c].options);
+    };
+    const LocalizationResult3 one = run(1);
+    EXPECT_GT(one.iterations, cases[c].more_than) << "case " << c;
+    for (const int t : {2, 3}) {
+      const LocalizationResult3 r = run(t);
+      EXPECT_EQ(r.status, one.status) << "case " << c << ", " << t << " threads";
+      EXPECT_EQ(r.iterations, one.iterations) << "case " << c << ", " << t << " threads";
+      EXPECT_TRUE(r.pose.matrix() == one.pose.matrix()) << "case " << c << ", " << t << " threads";
+    }
+  }
 }
 
 TEST(MultiStart, TheAttitudeGridReachesGuessesTheAxisStartsDoNot) {
