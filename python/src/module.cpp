@@ -2,6 +2,7 @@
 // vdtnav's exceptions as Python exceptions carrying the same messages, then each binding file.
 #include "bindings.hpp"
 #include "vdtnav/core/error.hpp"
+#include "vdtnav/core/parallel.hpp"
 
 PYBIND11_MODULE(_vdtnav, m) {
   namespace py = pybind11;
@@ -28,6 +29,14 @@ PYBIND11_MODULE(_vdtnav, m) {
       error(e.what());
     }
   });
+  // The pool of core/parallel.hpp (the CLI's --threads, the settings' threads:).
+  m.def(
+      "set_threads", [](int n) { vdtnav::set_threads(n); }, py::arg("n"),
+      "Threads of the work that runs in parallel (map building, global search, 3D multi-start), "
+      "process-wide; 0: the machine's cores (the default). Results are the same for any count.");
+  m.def(
+      "threads", [] { return vdtnav::threads(); },
+      "The threads of the work that runs in parallel (set_threads()).");
   bind_maps(m);
   bind_localization2d(m);
   bind_localization3d(m);

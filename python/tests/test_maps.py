@@ -129,3 +129,26 @@ def test_map_files_load_with_the_cli_readers(room_map_yaml, tmp_path):
     (tmp_path / "bad.yaml").write_text("image: nothing.pgm\nresolution: 0.05\n")
     with pytest.raises(vdtnav.Error, match="bad.yaml"):
         vdtnav.load_map(str(tmp_path / "bad.yaml"))
+
+
+def test_the_thread_count_changes_no_result():
+    # A map large enough that its build is cut into pieces for the pool: the same lookups at one
+    # thread and at three; the count is process-wide and refused below 0.
+    occ = np.zeros((700, 650), dtype=bool)
+    occ[[0, -1], :] = occ[:, [0, -1]] = True
+    occ[300, 100:500] = True
+    p = np.random.default_rng(4).uniform(0.0, 32.0, size=(2000, 2))
+    try:
+        vdtnav.set_threads(1)
+        assert vdtnav.threads() == 1
+        one = vdtnav.Map2(occ, 0.05).lookup(p)
+        vdtnav.set_threads(3)
+        assert vdtnav.threads() == 3
+        three = vdtnav.Map2(occ, 0.05).lookup(p)
+        np.testing.assert_array_equal(one.value, three.value)
+        np.testing.assert_array_equal(one.jacobian, three.jacobian)
+        with pytest.raises(vdtnav.ConfigError, match="thread count"):
+            vdtnav.set_threads(-1)
+    finally:
+        vdtnav.set_threads(0)
+    assert vdtnav.threads() >= 1

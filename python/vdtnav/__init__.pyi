@@ -178,6 +178,13 @@ class Map3:
     def source(self) -> str:
         """Where the map came from."""
 
+def set_threads(n: int) -> None:
+    """Threads of the work that runs in parallel (map building, global search, 3D multi-start),
+    process-wide; 0: the machine's cores (the default). Results are the same for any count."""
+
+def threads() -> int:
+    """The threads of the work that runs in parallel (set_threads())."""
+
 def load_map(
     path: _Path,
     resolution: float = 0.0,

@@ -172,11 +172,25 @@ LocalizerSettings parse_localizer_config(const std::string& text, const std::str
                         ": expected a section name (a plain word), not a mapping or a list");
     }
     const std::string name = it->first.as<std::string>();
+    if (name == kThreads) {
+      long long v = 0;
+      if (!it->second.IsScalar() || !YAML::convert<long long>::decode(it->second, v) || v < 0 ||
+          v > 4096) {
+        throw ConfigError(source + ":" + std::to_string(it->second.Mark().line + 1) + ": " +
+                          kThreads +
+                          ": expected an integer in [0, 4096] (0: the machine's "
+                          "cores), got '" +
+                          (it->second.IsScalar() ? it->second.Scalar() : "not a number") + "'");
+      }
+      s.threads = static_cast<int>(v);
+      continue;
+    }
     bool known = false;
     for (const std::string& sec : sections()) known = known || sec == name;
     if (!known) {
       throw ConfigError(source + ":" + std::to_string(it->first.Mark().line + 1) +
-                        ": unknown section '" + name + "' (known: " + section_list() + ")");
+                        ": unknown section '" + name + "' (known: " + section_list() +
+                        "; and the key " + kThreads + ")");
     }
   }
   // The shared sensor: block first, wherever it stands: every 2D VDT method's sensor model gets
@@ -191,7 +205,7 @@ LocalizerSettings parse_localizer_config(const std::string& text, const std::str
   }
   for (auto it = root.begin(); it != root.end(); ++it) {
     const std::string name = it->first.as<std::string>();
-    if (name == kSharedSensor) continue;
+    if (name == kSharedSensor || name == kThreads) continue;
     Reader r(it->second, source, name);
     visit_section(r, name, s);
     r.check_unknown();

@@ -15,6 +15,11 @@ namespace vdtnav::config_keys {
 inline const char* const kSharedSensor = "sensor";
 /// The 3D localizer's section (`vdtnav localize3d`).
 inline const char* const kLocalize3d = "localize3d";
+/// The one top-level key that is not a section: the pool's thread count (core/parallel.hpp).
+inline const char* const kThreads = "threads";
+inline const char* const kThreadsDoc =
+    "[threads] threads of the work that runs in parallel (3D multi-start and attitude grid, "
+    "global search, map building); 0: the machine's cores. Results are the same for any count";
 
 /// The sections, in file order.
 inline const std::vector<std::string>& sections() {

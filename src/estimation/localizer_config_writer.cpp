@@ -126,6 +126,7 @@ std::string localizer_settings_yaml(const LocalizerSettings& settings, const std
   const VdtSensorModelOptions shared = s.vdt_opt.sensor;
   std::ostringstream out;
   out << "# vdtnav localizer settings: every key, [unit] and meaning (docs/settings.md).\n";
+  out << kThreads << ": " << s.threads << "  # " << kThreadsDoc << "\n";
   for (const std::string& sec : sections()) {
     if (only == kLocalize3d) {
       if (sec != kLocalize3d) continue;  // `vdtnav localize3d --print-config`: its section only

@@ -44,6 +44,7 @@ LocalizerSettings changed() {
   s.udt.map_sigma = 0.02;
   s.pf.seed = 4000000000u;
   s.pf.kld = true;
+  s.threads = 3;
   return s;
 }
 
@@ -58,6 +59,7 @@ TEST(LocalizerConfig, EveryWrittenKeyReadsBackToTheSameValue) {
   EXPECT_EQ(back.pf.seed, 4000000000u);
   EXPECT_EQ(back.vdt_ekf.start.search.window_yaw, 0.45);
   EXPECT_EQ(back.vdt_opt.search.max_beams, 123u);
+  EXPECT_EQ(back.threads, 3);
 }
 
 TEST(LocalizerConfig, AFileSetsOnlyTheKeysItNames) {
@@ -115,6 +117,14 @@ TEST(LocalizerConfig, TheDocumentedListingIsWhatTheWriterPrints) {
 }
 
 TEST(LocalizerConfig, MistakesNameFileLineAndKey) {
+  // The top-level threads: key, an integer in [0, 4096].
+  EXPECT_EQ(parse_localizer_config("threads: 2\n", "my.yaml", LocalizerSettings{}).threads, 2);
+  EXPECT_NE(error_of("vdt-opt: {}\nthreads: -1\n")
+                .find("my.yaml:2: threads: expected an integer in [0, 4096]"),
+            std::string::npos)
+      << error_of("vdt-opt: {}\nthreads: -1\n");
+  EXPECT_NE(error_of("threads: {a: 1}\n").find("my.yaml:1: threads: expected an integer"),
+            std::string::npos);
   EXPECT_NE(error_of("vdt-opt:\n  search:\n    explaind_distance: 0.1\n")
                 .find("my.yaml:3: vdt-opt.search.explaind_distance: unknown key (known: enabled, "
                       "explained_distance"),

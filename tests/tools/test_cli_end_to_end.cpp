@@ -178,6 +178,19 @@ TEST(CliEndToEnd, MapLocalizeEvalRecoverTheSimulatedTrajectory) {
             .squaredNorm();
   }
   EXPECT_LT(std::sqrt(global_sq / static_cast<double>(global.poses.size())), 0.05);
+  // The same trajectory, byte for byte, at one thread and at three (--threads: the global
+  // search's roots, descents, batches and refinements on the pool).
+  for (const int t : {1, 3}) {
+    const std::string out = "global_t" + std::to_string(t);
+    ASSERT_EQ(run_cli("localize --map " + (d / "map.yaml").string() + " --log " +
+                          (d / "run.log").string() + " --method vdt-opt --init global --all-poses " +
+                          "--threads " + std::to_string(t) + " --out " +
+                          (d / (out + ".tum")).string(),
+                      d / (out + ".txt")),
+              0)
+        << read_all(d / (out + ".txt"));
+    EXPECT_EQ(read_all(d / (out + ".tum")), read_all(d / "global.tum")) << t << " threads";
+  }
 
   // The pose table: the header of the issue, one row per scan whatever its status, the status and
   // explained fraction, a positive definite covariance where converged.
@@ -391,6 +404,7 @@ TEST(CliEndToEnd, BadOptionsAreRefusedAndNothingIsWritten) {
 
   // An unknown time base.
   EXPECT_EQ(run_cli(localize + "--time-base gps", d / "time_base.txt"), 2);
+  EXPECT_EQ(run_cli(localize + "--threads -1", d / "threads.txt"), 2);
   EXPECT_TRUE(contains(read_all(d / "time_base.txt"), "--time-base: gps not in {logger,ipc}"))
       << read_all(d / "time_base.txt");
 

@@ -55,6 +55,7 @@ struct LocalizeArgs {
   std::string accept_status = "converged";
   // --bag: which topics and frames (vdtnav/ros/scan_sequence.hpp)
   std::string scan_topic, odom_topic, odom_frame = "odom", base_frame = "base_link", laser_pose;
+  int threads = -1;  // --threads; -1: the settings' threads:
 };
 
 /// The scans to localize, from a CARMEN log or a bag: stamps, scans, odometry at each, and the
@@ -165,10 +166,12 @@ void run_localize(const LocalizeArgs& a) {
   if (!a.config.empty()) settings = load_localizer_config(a.config, settings);
   if (a.recover) settings.recovery.detect = settings.recovery.recover = true;
   if (a.no_recover) settings.recovery.recover = false;
+  if (a.threads >= 0) settings.threads = a.threads;
   if (a.print_config) {
     std::fputs(localizer_settings_yaml(settings, a.method).c_str(), stdout);
     return;
   }
+  apply_threads(a.threads, settings.threads);
   for (const auto& [flag, value] :
        {std::pair<const char*, const std::string*>{"--map", &a.map}, {"--out", &a.out}}) {
     if (value->empty()) throw UsageError(std::string("localize: ") + flag + " is required");
@@ -469,6 +472,7 @@ void add_localize_command(CLI::App& app) {
                 "Report lost scans (status lost) but do not re-acquire them")
       ->excludes(recover);
   cmd->add_flag("--quiet", args->quiet, "No progress bar");
+  add_threads_option(*cmd, args->threads);
   cmd->add_flag("--strict", args->strict,
                 "Exit 3 when a scan is lost or fewer than 10 % of the scans localize (without it: "
                 "exit 3 only when none does, a warning under 10 %)");

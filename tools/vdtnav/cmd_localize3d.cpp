@@ -64,6 +64,7 @@ struct Localize3dArgs {
   std::string accept_status = "converged";
   /// 4-DOF: the held roll and pitch's standard deviation (radians); NaN: not estimated.
   double attitude_sigma = std::numeric_limits<double>::quiet_NaN();
+  int threads = -1;  // --threads; -1: the settings' threads:
 };
 
 /// status.csv's header: the scan's time, status, explained fraction, then the upper triangle of
@@ -246,12 +247,14 @@ void run_localize3d(const Localize3dArgs& a) {
         std::max(LostDetectionOptions{}.lost_contradiction, 1.0 - a.min_explained);
   }
   if (a.multi_start) lo.multi_start.enabled = true;
+  if (a.threads >= 0) settings.threads = a.threads;
   if (!std::isnan(a.attitude_sigma)) lo.held_attitude_sigma = a.attitude_sigma;
   lo.optimizer.four_dof = a.dof == 4;
   if (a.print_config) {
     std::fputs(localizer_settings_yaml(settings, "localize3d").c_str(), stdout);
     return;
   }
+  apply_threads(a.threads, settings.threads);
   if (a.map.empty()) throw UsageError("localize3d: --map is required");
   const VdtOptimizerOptions& opt = lo.optimizer;
   const MultiStartOptions& ms = lo.multi_start;
@@ -540,6 +543,7 @@ void add_localize3d_command(CLI::App& app) {
                              "A sequence's trajectory.tum", "status.csv");
   cmd->add_flag("--strict", args->strict, "Exit 3 when a scan of the sequence is lost");
   cmd->add_flag("--quiet", args->quiet, "Less on stderr");
+  add_threads_option(*cmd, args->threads);
   cmd->add_flag("--print-config", args->print_config,
                 "Print the settings in use (defaults + --config + the flags given), the "
                 "localize3d section, as a documented YAML and exit");

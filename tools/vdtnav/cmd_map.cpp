@@ -28,9 +28,11 @@ struct MapArgs {
   std::string time_base = "logger";
   bool skip_malformed = false;
   bool quiet = false;
+  int threads = -1;
 };
 
 void run_map(const MapArgs& a) {
+  apply_threads(a.threads, 0);
   if (!std::isfinite(a.margin) || a.margin < 0.0) {
     char got[32];
     std::snprintf(got, sizeof got, "%g", a.margin);
@@ -123,6 +125,7 @@ void add_map_command(CLI::App& app) {
   cmd->add_flag("--skip-malformed", args->skip_malformed,
                 "Skip and count malformed log lines instead of stopping at the first");
   cmd->add_flag("--quiet", args->quiet, "No progress bar");
+  add_threads_option(*cmd, args->threads);
   cmd->callback([args, max_range] {
     args->max_range_given = max_range->count() > 0;
     run_map(*args);

@@ -18,9 +18,11 @@ namespace {
 struct Map3dArgs {
   std::string map, out, crop;
   Map3dOptions options;
+  int threads = -1;
 };
 
 void run_map3d(const Map3dArgs& a) {
+  apply_threads(a.threads, 0);
   Map3dOptions o = a.options;
   if (!a.crop.empty()) o.crop = parse_crop(a.crop, "--crop");
   const auto ends_with = [&](const std::string& e) {
@@ -69,6 +71,7 @@ void add_map3d_command(CLI::App& app) {
                 "voxel with a point (a slab as thick as the points' scatter, in which a scan "
                 "slides)");
   cmd->add_flag("--quiet", args->options.quiet, "Only the result line");
+  add_threads_option(*cmd, args->threads);
   cmd->callback([args] { run_map3d(*args); });
 }
 

@@ -8,6 +8,7 @@
 
 #include "exit_status.hpp"
 #include "vdtnav/core/error.hpp"
+#include "vdtnav/core/parallel.hpp"
 #include "vdtnav/io/tum_trajectory.hpp"
 
 namespace vdtnav::tools {
@@ -130,6 +131,18 @@ void add_time_base_option(CLI::App& app, std::string& time_base) {
                  "(ipc_timestamp; the Freiburg benchmark relations use the raw .clf's ipc time)")
       ->check(CLI::IsMember(time_base_names()))
       ->capture_default_str();
+}
+
+void add_threads_option(CLI::App& app, int& threads) {
+  app.add_option("--threads", threads,
+                 "Threads of the work that runs in parallel (map building, global search, 3D "
+                 "multi-start); 0: the machine's cores (the default, or the --config file's "
+                 "threads:). Results are the same for any count")
+      ->check(CLI::Range(0, 4096));
+}
+
+void apply_threads(int flag, int settings_threads) {
+  set_threads(flag >= 0 ? flag : settings_threads);
 }
 
 CarmenLog load_log(const std::string& path, const CarmenLogOptions& options,

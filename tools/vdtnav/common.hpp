@@ -49,6 +49,15 @@ struct TimeWindow {
 /// \brief Adds `--time-base logger|ipc` to a subcommand that reads a CARMEN log.
 void add_time_base_option(CLI::App& app, std::string& time_base);
 
+/// \brief Adds `--threads N`: the threads of the work that runs in parallel (core/parallel.hpp:
+/// map building, global search, 3D multi-start), 0 for the machine's cores; it overrides the
+/// settings file's `threads:`. `threads` stays -1 when the flag is not given.
+void add_threads_option(CLI::App& app, int& threads);
+
+/// \brief set_threads(): `flag` when --threads was given (>= 0), else `settings_threads` (the
+/// settings' `threads:`, 0: the machine's cores).
+void apply_threads(int flag, int settings_threads);
+
 /// \brief Loads a CARMEN log in the time base `time_base` (a time_base_names() entry): with
 /// `ipc`, every laser's and ODOM's `time` (and each scan's time) becomes its ipc_timestamp, so
 /// that time windows, odometry interpolation and the written trajectories all use it.

@@ -38,6 +38,10 @@ struct LocalizerSettings {
   /// The sequential 3D localizer of `vdtnav localize3d` (settings section localize3d:), by
   /// default what that command ran with before it had keys of its own: localize3d_defaults().
   VdtLocalizer3Options localize3d = localize3d_defaults();
+  /// Threads of the work that runs in parallel (`threads:`, top level; 0: the machine's cores):
+  /// the commands apply it with set_threads() (core/parallel.hpp) unless `--threads` is given.
+  /// Results are the same for any count.
+  int threads = 0;
 
   [[nodiscard]] static ActiveBeamLocalizerOptions passive_beam() {
     ActiveBeamLocalizerOptions o;
