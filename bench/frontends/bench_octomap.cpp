@@ -4,10 +4,11 @@
 //                            "3D build <= 25 ns/voxel" target and BM_VdtBuild3D measure;
 //   BM_VdtMapBuild3DOctomap: the whole VdtMap3::build (surface cells, transform, DT_v samples and
 //                            the spline prefilter of every component), as BM_VdtMapBuild3D.
-//   BM_VdtBuild3DSparse:     SparseVdtMap3::build from the list of occupied voxels (default band, 3
-//   voxels),
-//                            no dense grid; bytes_per_cell is the sparse map's memory per voxel of
-//                            the box (BM_VdtMapBuild3DOctomap's is the dense map's).
+//   BM_VdtBuild3DSparse/pool_threads:<n>: SparseVdtMap3::build from the list of occupied voxels
+//                            (default band, 3 voxels), no dense grid, at 1 and 2 threads of the
+//                            pool (ms, ms_1_thread, speedup: bench_counters.hpp); bytes_per_cell
+//                            is the sparse map's memory per voxel of the box
+//                            (BM_VdtMapBuild3DOctomap's is the dense map's).
 // ns_per_cell is the build time per voxel of the grid.
 #include <benchmark/benchmark.h>
 
@@ -98,19 +99,19 @@ void BM_VdtBuild3DSparse(benchmark::State& state) {
   for (std::size_t k = 0; k < occ.num_cells(); ++k) {
     if (occ[k] != 0) occupied.push_back(occ.index_of(static_cast<std::ptrdiff_t>(k)));
   }
-  const bench::PerItemTimer timer;
-  for (auto _ : state) {
-    auto map = SparseVdtMap3::build(occupied, occ.frame(), occ.size());
+  SparseVdtMap3 map;
+  bench::thread_scaling(state, static_cast<int>(state.range(0)), [&](std::size_t) {
+    map = SparseVdtMap3::build(occupied, occ.frame(), occ.size());
     benchmark::DoNotOptimize(map.bricks().coefficients);
-    state.counters["bytes_per_cell"] =
-        static_cast<double>(map.memory_bytes()) / static_cast<double>(occ.num_cells());
-    state.counters["bricks"] = static_cast<double>(map.bricks().num_bricks);
-    state.counters["MB"] = static_cast<double>(map.memory_bytes()) * 1e-6;
-  }
-  timer.set(state, "ns_per_cell", static_cast<double>(occ.num_cells()));
+  });
+  state.counters["bytes_per_cell"] =
+      static_cast<double>(map.memory_bytes()) / static_cast<double>(occ.num_cells());
+  state.counters["bricks"] = static_cast<double>(map.bricks().num_bricks);
+  state.counters["MB"] = static_cast<double>(map.memory_bytes()) * 1e-6;
+  state.counters["ns_per_cell"] = 1e6 * state.counters["ms"] / static_cast<double>(occ.num_cells());
   set_map_counters(state, c.occ);
 }
-BENCHMARK(BM_VdtBuild3DSparse)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_VdtBuild3DSparse)->Apply(bench::pool_threads_1_and_2)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace vdtnav

@@ -91,5 +91,21 @@ void BM_VdtMapBuild3D(benchmark::State& state) {
 }
 BENCHMARK(BM_VdtMapBuild3D)->Arg(256)->Unit(benchmark::kMillisecond);
 
+// The whole 3D map at 1 and 2 threads of the pool (blocks of planes of the exact transform, the
+// samples and the prefilter's lines; core/parallel.hpp): ms, ms_1_thread, speedup.
+void BM_VdtMapBuild3DThreads(benchmark::State& state) {
+  const auto occ = random_occupancy<3>(static_cast<int>(state.range(0)), 0.01);
+  bench::thread_scaling(state, static_cast<int>(state.range(1)), [&](std::size_t) {
+    auto map = VdtMap<3>::build(occ);
+    benchmark::DoNotOptimize(map.field().coefficients().data());
+  });
+}
+BENCHMARK(BM_VdtMapBuild3DThreads)
+    ->ArgNames({"side", "pool_threads"})
+    ->Args({256, 1})
+    ->Args({256, 2})
+    ->UseManualTime()
+    ->Unit(benchmark::kMillisecond);
+
 }  // namespace
 }  // namespace vdtnav
