@@ -248,8 +248,11 @@ template <typename Dist, typename SlabPass>
 void transform_in_blocks(const std::uint8_t* occ, std::int32_t* out, std::ptrdiff_t plane, int n,
                          int line_length, bool own_f, SlabPass&& slab_pass) {
   constexpr int kMinPlanes = 16;  // per block: the seeds cost a plane each
+  constexpr std::int64_t kMinCells = std::int64_t{1} << 16;  // below: not worth a wake-up
   const int t = threads();
-  const int blocks = t > 1 ? std::max(1, std::min(4 * t, n / kMinPlanes)) : 1;
+  const int blocks = t > 1 && std::int64_t{n} * plane >= kMinCells
+                         ? std::max(1, std::min(4 * t, n / kMinPlanes))
+                         : 1;
   const auto begin = [n, blocks](std::size_t b) {
     return static_cast<int>(std::int64_t{n} * static_cast<std::int64_t>(b) / blocks);
   };

@@ -6,6 +6,7 @@
 
 #include <atomic>
 #include <chrono>
+#include <cstdlib>
 #include <set>
 #include <stdexcept>
 #include <string>
@@ -106,15 +107,33 @@ TEST(Parallel, RethrowsTheLowestIndexsExceptionAfterEveryCall) {
   }
 }
 
-TEST(Parallel, TheCountIsTheMachinesCoresByDefaultAndRefusesNegatives) {
+TEST(Parallel, TheDefaultIsTheEnvironmentsOrTheMachinesCoresAndNegativesAreRefused) {
+  const char* before = std::getenv("VDTNAV_THREADS");
+  const std::string saved = before != nullptr ? before : "";
+  ::unsetenv("VDTNAV_THREADS");
   {
     const test::ThreadCount count(0);
     EXPECT_EQ(threads(), hardware_threads());
     EXPECT_GE(threads(), 1);
   }
+  ::setenv("VDTNAV_THREADS", "3", 1);
+  {
+    const test::ThreadCount count(0);
+    EXPECT_EQ(threads(), 3);
+  }
+  for (const char* bad : {"0", "-2", "two", "3x", ""}) {  // not a count: the machine's cores
+    ::setenv("VDTNAV_THREADS", bad, 1);
+    EXPECT_EQ(default_threads(), hardware_threads()) << "'" << bad << "'";
+  }
+  if (before != nullptr) {
+    ::setenv("VDTNAV_THREADS", saved.c_str(), 1);
+  } else {
+    ::unsetenv("VDTNAV_THREADS");
+  }
+  set_threads(0);
   EXPECT_THROW(set_threads(-1), ConfigError);
   EXPECT_THROW(ThreadPool(0), ConfigError);
-  EXPECT_EQ(threads(), hardware_threads());  // a refused count changes nothing
+  EXPECT_EQ(threads(), default_threads());  // a refused count changes nothing
 }
 
 }  // namespace

@@ -277,20 +277,20 @@ TYPED_TEST(VectorDistanceTransformTest, SurfaceCellsGiveTheSameTransformOutsideO
 }
 
 TYPED_TEST(VectorDistanceTransformTest, ExactAndTheSameForAnyThreadCount) {
-  // Grids long enough along the slowest axis to be cut into blocks of planes (16 at least), with
+  // Grids long and large enough to be cut into blocks of planes (16 planes and 2^16 cells), with
   // lines whose nearest occupied cell lies blocks away: the seeds a block takes from the others.
   constexpr int kDim = TestFixture::kDim;
   using Index = typename TestFixture::Index;
   Index size;
   if constexpr (kDim == 2) {
-    size = Index(37, 211);
+    size = Index(320, 211);
   } else {
-    size = Index(9, 7, 131);
+    size = Index(24, 22, 131);
   }
   std::mt19937 rng(3);
   std::uniform_real_distribution<double> uni(0.0, 1.0);
   std::vector<OccupancyGrid<kDim>> grids;
-  for (const double p : {0.05, 0.002}) {
+  for (const double p : {0.02, 0.002}) {
     auto occ = TestFixture::make(size);
     for (auto& v : occ.values()) v = uni(rng) < p ? 1 : 0;
     occ[occ.num_cells() / 3] = 1;

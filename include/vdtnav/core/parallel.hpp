@@ -14,13 +14,14 @@
 ///
 /// The count is process-wide, as OpenMP's and TBB's: set_threads(n) (`threads:` in the localizer
 /// settings, `--threads` on the command line, vdtnav.set_threads() in Python), by default the
-/// machine's cores (std::thread::hardware_concurrency()).
+/// environment's VDTNAV_THREADS or else the machine's cores (std::thread::hardware_concurrency()).
 
 #include <algorithm>
 #include <atomic>
 #include <condition_variable>
 #include <cstddef>
 #include <cstdint>
+#include <cstdlib>
 #include <exception>
 #include <functional>
 #include <memory>
@@ -177,22 +178,35 @@ inline PoolSlot& pool_slot() {
   return std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
 }
 
-/// \brief Sets the threads of every later parallel_for, the caller included; 0: the machine's
-/// cores. A parallel_for already running keeps its threads.
+/// \return the default count: the environment variable VDTNAV_THREADS when it holds an integer
+/// in [1, 4096] (as OMP_NUM_THREADS: for programs without a --threads flag, the examples, a ROS
+/// node), else hardware_threads().
+[[nodiscard]] inline int default_threads() {
+  if (const char* env = std::getenv("VDTNAV_THREADS")) {
+    char* end = nullptr;
+    const long n = std::strtol(env, &end, 10);
+    if (end != env && *end == '\0' && n >= 1 && n <= 4096) return static_cast<int>(n);
+  }
+  return hardware_threads();
+}
+
+/// \brief Sets the threads of every later parallel_for, the caller included; 0: the default
+/// (default_threads(): VDTNAV_THREADS, else the machine's cores). A parallel_for already running
+/// keeps its threads.
 /// \throws ConfigError when n < 0.
 inline void set_threads(int n) {
   VDTNAV_CHECK(n >= 0, "set_threads: the thread count must be >= 0 (0: the machine's cores)");
-  auto pool = std::make_shared<ThreadPool>(n == 0 ? hardware_threads() : n);
+  auto pool = std::make_shared<ThreadPool>(n == 0 ? default_threads() : n);
   detail::PoolSlot& slot = detail::pool_slot();
   const std::lock_guard<std::mutex> lock(slot.mutex);
   slot.pool.swap(pool);  // the old pool is joined when its last parallel_for returns
 }
 
-/// \return the shared pool (created with the machine's cores at the first call).
+/// \return the shared pool (created with default_threads() at the first call).
 [[nodiscard]] inline std::shared_ptr<ThreadPool> thread_pool() {
   detail::PoolSlot& slot = detail::pool_slot();
   const std::lock_guard<std::mutex> lock(slot.mutex);
-  if (!slot.pool) slot.pool = std::make_shared<ThreadPool>(hardware_threads());
+  if (!slot.pool) slot.pool = std::make_shared<ThreadPool>(default_threads());
   return slot.pool;
 }
 
