@@ -71,7 +71,6 @@ class ThreadPool {
       job_ = &f;
       n_ = n;
       next_.store(0, std::memory_order_relaxed);
-      running_.store(static_cast<int>(workers_.size()), std::memory_order_relaxed);
       error_ = nullptr;
       error_index_ = n;
       generation_.fetch_add(1, std::memory_order_release);
@@ -80,16 +79,17 @@ class ThreadPool {
     inside() = true;
     run(f, n);
     inside() = false;
-    // The workers finish their last calls: a short spin (a batch of a search is ~100 us), then
-    // a wait.
+    // Every index is claimed. Only the workers that joined are waited for: one the scheduler has
+    // not run yet (the other core busy with another process) never joins, and nothing waits for
+    // it to wake. A short spin first (a joined worker's last call is usually under way).
     for (int spin = 0; spin < kSpins && running_.load(std::memory_order_acquire) != 0; ++spin) {
       std::this_thread::yield();
     }
     std::exception_ptr error;
     {
       std::unique_lock<std::mutex> lock(mutex_);
+      job_ = nullptr;  // no worker joins from now on
       done_.wait(lock, [this] { return running_.load(std::memory_order_acquire) == 0; });
-      job_ = nullptr;
       error = std::exchange(error_, nullptr);
     }
     if (error) std::rethrow_exception(error);
@@ -117,8 +117,9 @@ class ThreadPool {
     }
   }
 
-  /// A worker: runs each new job's calls. After one, it spins a little for the next (a search's
-  /// batches follow each other within microseconds) before it waits on the condition variable.
+  /// A worker: joins each new job that still has calls to claim and runs them. After one, it
+  /// spins a little for the next (a search's batches follow each other within microseconds)
+  /// before it waits on the condition variable.
   void work_loop() {
     inside() = true;
     std::uint64_t seen = 0;
@@ -135,8 +136,10 @@ class ThreadPool {
                    [&] { return stop_ || generation_.load(std::memory_order_acquire) != seen; });
         if (stop_) return;
         seen = generation_.load(std::memory_order_acquire);
+        if (job_ == nullptr || next_.load(std::memory_order_relaxed) >= n_) continue;  // done
         job = job_;
         n = n_;
+        running_.fetch_add(1, std::memory_order_acq_rel);
       }
       run(*job, n);
       if (running_.fetch_sub(1, std::memory_order_acq_rel) == 1) {
@@ -155,7 +158,7 @@ class ThreadPool {
   const std::function<void(std::size_t)>* job_ = nullptr;
   std::size_t n_ = 0;
   std::atomic<std::size_t> next_{0};
-  std::atomic<int> running_{0};  // workers not yet done with the current job
+  std::atomic<int> running_{0};  // workers that joined the current job and are not done
   std::atomic<std::uint64_t> generation_{0};
   bool stop_ = false;
   std::exception_ptr error_;
