@@ -182,12 +182,12 @@ TEST(CliEndToEnd, MapLocalizeEvalRecoverTheSimulatedTrajectory) {
   // search's roots, descents, batches and refinements on the pool).
   for (const int t : {1, 3}) {
     const std::string out = "global_t" + std::to_string(t);
-    ASSERT_EQ(run_cli("localize --map " + (d / "map.yaml").string() + " --log " +
-                          (d / "run.log").string() + " --method vdt-opt --init global --all-poses " +
-                          "--threads " + std::to_string(t) + " --out " +
-                          (d / (out + ".tum")).string(),
-                      d / (out + ".txt")),
-              0)
+    ASSERT_EQ(
+        run_cli("localize --map " + (d / "map.yaml").string() + " --log " +
+                    (d / "run.log").string() + " --method vdt-opt --init global --all-poses " +
+                    "--threads " + std::to_string(t) + " --out " + (d / (out + ".tum")).string(),
+                d / (out + ".txt")),
+        0)
         << read_all(d / (out + ".txt"));
     EXPECT_EQ(read_all(d / (out + ".tum")), read_all(d / "global.tum")) << t << " threads";
   }
