@@ -88,7 +88,7 @@ const IntelStudy& intel() {
 /// solves per scan, the share of scans that ran a coarse-to-fine alignment, a window search or a
 /// scan-to-scan match; and the share of scans whose status is each of converged, not converged,
 /// refused.
-void localize_intel(benchmark::State& state, ScanSolver solver) {
+void localize_intel(benchmark::State& state, ScanSolver solver, double step_sigma = 0.0) {
   const IntelStudy& s = intel();
   if (!s.error.empty()) {
     state.SkipWithError(s.error.c_str());
@@ -96,6 +96,7 @@ void localize_intel(benchmark::State& state, ScanSolver solver) {
   }
   LocalizerSettings settings = log_settings();
   settings.vdt_opt.solver = solver;
+  settings.vdt_opt.step_sigma = step_sigma;
   const Eigen::Matrix3d p0 = Eigen::Vector3d(0.1 * 0.1, 0.1 * 0.1, 0.05 * 0.05).asDiagonal();
   eval::Trajectory2 estimate;
   std::map<LocalizationStatus, int> statuses;
@@ -103,6 +104,7 @@ void localize_intel(benchmark::State& state, ScanSolver solver) {
   LocalizationResult::Work work;
   int lost = 0, flagged = 0;
   double max_ms = 0.0;
+  std::vector<double> tracked_iterations;  // scans the optimizer's solve alone placed
   for (auto _ : state) {
     std::unique_ptr<Localizer2D> loc =
         make_localizer("vdt-opt", *s.vdt, s.occupancy, settings, s.knowledge);
@@ -112,6 +114,7 @@ void localize_intel(benchmark::State& state, ScanSolver solver) {
     iterations = 0.0;
     lost = flagged = 0;
     work = {};
+    tracked_iterations.clear();
     for (std::size_t k = 0; k < s.scans.size(); ++k) {
       const auto t0 = std::chrono::steady_clock::now();
       const LocalizationResult r = loc->update(s.steps[k], s.scans[k]);
@@ -123,6 +126,9 @@ void localize_intel(benchmark::State& state, ScanSolver solver) {
       estimate.push_back({s.reference[k].t, r.pose});
       ++statuses[r.status];
       iterations += r.iterations;
+      if (r.status == LocalizationStatus::kConverged && r.work.window_searches == 0 &&
+          r.work.coarse_to_fine == 0)
+        tracked_iterations.push_back(r.iterations);
       work.solves += r.work.solves;
       work.coarse_to_fine += r.work.coarse_to_fine;
       work.window_searches += r.work.window_searches;
@@ -144,6 +150,15 @@ void localize_intel(benchmark::State& state, ScanSolver solver) {
   state.counters["ms_per_scan_max"] = max_ms;
   state.counters["flagged_lost"] = flagged;
   state.counters["iterations_per_scan"] = iterations / n;
+  // A tracked scan: converged from the prediction, with neither a coarse-to-fine alignment nor a
+  // window search (issue 34's "iterations per tracked scan", at the median).
+  if (!tracked_iterations.empty()) {
+    auto mid =
+        tracked_iterations.begin() + static_cast<std::ptrdiff_t>(tracked_iterations.size() / 2);
+    std::nth_element(tracked_iterations.begin(), mid, tracked_iterations.end());
+    state.counters["iterations_tracked_median"] = *mid;
+    state.counters["tracked_pct"] = 100.0 * static_cast<double>(tracked_iterations.size()) / n;
+  }
   state.counters["solves_per_scan"] = work.solves / n;
   state.counters["coarse_to_fine_pct"] = 100.0 * work.coarse_to_fine / n;
   state.counters["window_search_pct"] = 100.0 * work.window_searches / n;
@@ -299,8 +314,13 @@ BENCHMARK_CAPTURE(BM_LocalizeIntelWorst, vdt_ekf, std::string("vdt-ekf"))
 /// With the log settings as they are (the dense solver) and, for the ratio, Ceres.
 void BM_LocalizeIntel(benchmark::State& state) { localize_intel(state, ScanSolver::kDense); }
 void BM_LocalizeIntelCeres(benchmark::State& state) { localize_intel(state, ScanSolver::kCeres); }
+/// The dense solver's line search and step test (vdt-opt step_sigma: 0.1, off by default).
+void BM_LocalizeIntelStepSigma(benchmark::State& state) {
+  localize_intel(state, ScanSolver::kDense, 0.1);
+}
 BENCHMARK(BM_LocalizeIntel)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_LocalizeIntelCeres)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_LocalizeIntelStepSigma)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace vdtnav

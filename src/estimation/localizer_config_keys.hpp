@@ -138,6 +138,9 @@ void visit(V& v, VdtOptimizerOptions& o) {
   v.integer("max_iterations", o.max_iterations, "count", "solver iterations per solve");
   v.number("function_tolerance", o.function_tolerance, "fraction",
            "a solve stops when a step changes the cost by less than this fraction of it");
+  v.number("step_sigma", o.step_sigma, "sigma",
+           "solver dense: a solve also stops when its step is at most this many of the pose's "
+           "standard deviations; 0: off");
   v.integer("gate_rounds", o.gate_rounds, "count",
             "re-gate at the solution and solve again while the inliers change");
   v.integer("min_inliers", o.min_inliers, "count", "fewer usable readings: too few observations");

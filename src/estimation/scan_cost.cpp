@@ -207,6 +207,7 @@ detail::ScanLmSummary run_solver(const VdtSensorModelT<Dim>& model, const Observ
     ls.max_iterations = setup.max_iterations;
     ls.function_tolerance = setup.function_tolerance;
     ls.parameter_tolerance = setup.parameter_tolerance;
+    ls.step_sigma = setup.step_sigma;
     ls.held_mask = (Dim == 3 && setup.four_dof) ? (1u << 3 | 1u << 4) : 0u;  // see is_free()
     typename PoseTraits<Dim>::Pose pose = Parameterization<Dim>::pose(x);
     const detail::ScanLmSummary out =

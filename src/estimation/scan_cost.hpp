@@ -84,6 +84,7 @@ struct SolveSetup {
   bool four_dof = false;
   double function_tolerance = 1e-6;
   double parameter_tolerance = 1e-6;  // relative: ~10 micrometres at 10 m from the origin
+  double step_sigma = 0.0;            // the dense solver's step test (scan_lm.hpp); 0: off
 };
 
 /// One solve of the readings in `beams` from x (updated in place), weighted by sqrt_w (empty: 1),

@@ -55,6 +55,8 @@ void VdtOptimizerT<Dim>::validate_and_default() {
   VDTNAV_CHECK(options.max_iterations >= 1, "optimizer: max_iterations must be >= 1");
   VDTNAV_CHECK(options.function_tolerance > 0.0 && options.function_tolerance < 1.0,
                "optimizer: function_tolerance must be in (0, 1)");
+  VDTNAV_CHECK(options.step_sigma >= 0.0 && std::isfinite(options.step_sigma),
+               "optimizer: step_sigma must be finite and >= 0");
   VDTNAV_CHECK(options.gate_rounds >= 1, "optimizer: gate_rounds must be >= 1");
   VDTNAV_CHECK(options.min_inliers >= 3, "optimizer: min_inliers must be >= 3");
   VDTNAV_CHECK(options.loss_scale > 0.0, "optimizer: loss_scale must be > 0");
@@ -146,8 +148,9 @@ typename VdtOptimizerT<Dim>::Result VdtOptimizerT<Dim>::solve_with(const Observa
   double x[P::kAmbient];
   P::set(guess, x);
   const double alpha = options_.sensor.gate;
-  const SolveSetup setup{options_.solver, options_.trust_region, options_.max_iterations,
-                         options_.four_dof, options_.function_tolerance};
+  SolveSetup setup{options_.solver, options_.trust_region, options_.max_iterations,
+                   options_.four_dof, options_.function_tolerance};
+  setup.step_sigma = options_.step_sigma;
   // IRLS passes per level of the coarse alignment: in 3D one pass per level already lands in the
   // basin of the fine solve, and each pass is a full solve over thousands of 3D lookups.
   constexpr int kIrlsPasses = Dim == 2 ? 3 : 1;
