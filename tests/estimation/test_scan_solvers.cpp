@@ -51,6 +51,16 @@ Agreement compare(const VdtMap<Dim>& map, VdtOptimizerOptions o, const Observati
   return out;
 }
 
+/// A simulated scan at `truth` of the test world, with clutter (every 7th reading 0.25 m short)
+/// when the loss is robust.
+ScanPoints tour_scan(const Pose2& truth, RobustLoss loss, std::mt19937& rng) {
+  LaserScan scan = test::simulate_scan(truth, 0.02, rng);
+  if (loss == RobustLoss::kCauchy) {
+    for (std::size_t i = 0; i < scan.ranges.size(); i += 7) scan.ranges[i] -= 0.25;
+  }
+  return scan_points(scan);
+}
+
 TEST(ScanSolvers, TheDenseCauchyCostIsTheSumOfTheReadingsLogTerms) {
   // The dense solver sums the Cauchy cost as b log prod_i (1 + s_i / b); here against the sum of
   // b log1p(s_i / b) over the solve's readings at its estimate. A loss scale of 2 mm makes the
@@ -98,14 +108,10 @@ TEST(ScanSolvers, DenseAndCeresReachTheSameOptimumAndCovarianceIn2d) {
   for (const RobustLoss loss : {RobustLoss::kNone, RobustLoss::kCauchy}) {
     for (const std::size_t k : {2u, 7u, 12u, 18u}) {
       const Pose2 truth = test::tour_pose(k);
-      LaserScan scan = test::simulate_scan(truth, 0.02, rng);
-      if (loss == RobustLoss::kCauchy) {
-        for (std::size_t i = 0; i < scan.ranges.size(); i += 7) scan.ranges[i] -= 0.25;  // clutter
-      }
+      const ScanPoints pts = tour_scan(truth, loss, rng);
       VdtOptimizerOptions o;
       o.loss = loss;
-      const Agreement g =
-          compare<2>(test::world().map, o, scan_points(scan), truth + Pose2(0.06, -0.04, 0.03));
+      const Agreement g = compare<2>(test::world().map, o, pts, truth + Pose2(0.06, -0.04, 0.03));
       // The two stop at slightly different points of the same minimum: within a tenth of a
       // standard deviation; the covariance, evaluated there, within 1 %.
       EXPECT_LT(g.mahalanobis, 0.1) << "pose " << k << " loss " << static_cast<int>(loss);
@@ -153,16 +159,12 @@ TEST(ScanSolvers, TheStepTestAndLineSearchStopNearCeresOptimumInFewerIterations)
   for (const RobustLoss loss : {RobustLoss::kNone, RobustLoss::kCauchy}) {
     for (const std::size_t k : {2u, 7u, 12u, 18u}) {
       const Pose2 truth = test::tour_pose(k);
-      LaserScan scan = test::simulate_scan(truth, 0.02, rng);
-      if (loss == RobustLoss::kCauchy) {
-        for (std::size_t i = 0; i < scan.ranges.size(); i += 7) scan.ranges[i] -= 0.25;  // clutter
-      }
+      const ScanPoints pts = tour_scan(truth, loss, rng);
       VdtOptimizerOptions o;
       o.loss = loss;
       o.step_sigma = 0.1;
       o.max_iterations = 200;  // Ceres converges (a Cauchy solve creeps past the default 25)
-      const Agreement g =
-          compare<2>(test::world().map, o, scan_points(scan), truth + Pose2(0.06, -0.04, 0.03));
+      const Agreement g = compare<2>(test::world().map, o, pts, truth + Pose2(0.06, -0.04, 0.03));
       EXPECT_LT(g.mahalanobis, 0.25) << "pose " << k << " loss " << static_cast<int>(loss);
       worst = std::max(worst, g.mahalanobis);
       dense += g.dense_iterations;
