@@ -234,12 +234,13 @@ ScanLmSummary solve_scan_lm(const VdtSensorModelT<Dim>& model, const Observation
       summary.converged = true;
       break;
     }
+    const double quad = delta.dot(h * delta);  // delta^T H delta: the test, the length, the model
     // The step test: the step alpha delta in sigmas, with the curvature H / alpha, and the distance
     // still to go when the steps shrink linearly (rate r = this step / the last, the geometric sum
     // m / (1 - r)): along a weakly constrained direction (a corridor) the steps creep, each a few
     // percent shorter than the last, and their sum, not the step, is what stopping would lose.
     if (settings.step_sigma > 0.0) {
-      const double m = std::sqrt(alpha * delta.dot(h * delta) * dof_free / (2.0 * cost));
+      const double m = std::sqrt(alpha * quad * dof_free / (2.0 * cost));
       const double to_go = m < last_m ? m / (1.0 - m / last_m) : (last_m > 1e300 ? m : 1e300);
       last_m = m;
       if (to_go <= settings.step_sigma) {
@@ -249,7 +250,7 @@ ScanLmSummary solve_scan_lm(const VdtSensorModelT<Dim>& model, const Observation
     }
     const double slope = g.dot(delta);  // < 0: delta descends (H + lambda D is positive definite)
     // No longer than the last accepted step (see above).
-    const double length = std::sqrt(delta.dot(h * delta));
+    const double length = std::sqrt(quad);
     const double a_step = line_search ? std::min(alpha, last_length / length) : 1.0;
     if (a_step > 1.0) {
       ++summary.iterations;
@@ -276,7 +277,7 @@ ScanLmSummary solve_scan_lm(const VdtSensorModelT<Dim>& model, const Observation
       if (summary.iterations >= settings.max_iterations + 1) break;
     }
     ++summary.iterations;
-    const double model_decrease = -(slope + 0.5 * delta.dot(h * delta));
+    const double model_decrease = -(slope + 0.5 * quad);
     const Pose candidate = Traits::plus(*pose, delta);
     const double new_cost = evaluate(candidate, &h_trial, &g_trial);
     if (std::isfinite(new_cost) &&

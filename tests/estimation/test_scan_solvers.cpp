@@ -61,6 +61,20 @@ ScanPoints tour_scan(const Pose2& truth, RobustLoss loss, std::mt19937& rng) {
   return scan_points(scan);
 }
 
+/// Both solvers on cluttered-or-clean tour scans at four poses, without and with the Cauchy loss
+/// (options `base` otherwise), from the same guess; `check(k, loss, agreement)` for each.
+template <class Check>
+void compare_on_the_tour(std::mt19937& rng, VdtOptimizerOptions base, Check check) {
+  for (const RobustLoss loss : {RobustLoss::kNone, RobustLoss::kCauchy}) {
+    for (const std::size_t k : {2u, 7u, 12u, 18u}) {
+      const Pose2 truth = test::tour_pose(k);
+      const ScanPoints pts = tour_scan(truth, loss, rng);
+      base.loss = loss;
+      check(k, loss, compare<2>(test::world().map, base, pts, truth + Pose2(0.06, -0.04, 0.03)));
+    }
+  }
+}
+
 TEST(ScanSolvers, TheDenseCauchyCostIsTheSumOfTheReadingsLogTerms) {
   // The dense solver sums the Cauchy cost as b log prod_i (1 + s_i / b); here against the sum of
   // b log1p(s_i / b) over the solve's readings at its estimate. A loss scale of 2 mm makes the
@@ -105,22 +119,15 @@ TEST(ScanSolvers, TheDenseCauchyCostIsTheSumOfTheReadingsLogTerms) {
 
 TEST(ScanSolvers, DenseAndCeresReachTheSameOptimumAndCovarianceIn2d) {
   std::mt19937 rng(3);
-  for (const RobustLoss loss : {RobustLoss::kNone, RobustLoss::kCauchy}) {
-    for (const std::size_t k : {2u, 7u, 12u, 18u}) {
-      const Pose2 truth = test::tour_pose(k);
-      const ScanPoints pts = tour_scan(truth, loss, rng);
-      VdtOptimizerOptions o;
-      o.loss = loss;
-      const Agreement g = compare<2>(test::world().map, o, pts, truth + Pose2(0.06, -0.04, 0.03));
-      // The two stop at slightly different points of the same minimum: within a tenth of a
-      // standard deviation; the covariance, evaluated there, within 1 %.
-      EXPECT_LT(g.mahalanobis, 0.1) << "pose " << k << " loss " << static_cast<int>(loss);
-      EXPECT_LT(g.covariance, 0.01) << "pose " << k << " loss " << static_cast<int>(loss);
-      std::printf("2D pose %zu loss %d: %.3g sigma apart, covariance %.2g, iterations %d / %d\n", k,
-                  static_cast<int>(loss), g.mahalanobis, g.covariance, g.dense_iterations,
-                  g.ceres_iterations);
-    }
-  }
+  compare_on_the_tour(rng, {}, [](std::size_t k, RobustLoss loss, const Agreement& g) {
+    // The two stop at slightly different points of the same minimum: within a tenth of a
+    // standard deviation; the covariance, evaluated there, within 1 %.
+    EXPECT_LT(g.mahalanobis, 0.1) << "pose " << k << " loss " << static_cast<int>(loss);
+    EXPECT_LT(g.covariance, 0.01) << "pose " << k << " loss " << static_cast<int>(loss);
+    std::printf("2D pose %zu loss %d: %.3g sigma apart, covariance %.2g, iterations %d / %d\n", k,
+                static_cast<int>(loss), g.mahalanobis, g.covariance, g.dense_iterations,
+                g.ceres_iterations);
+  });
 }
 
 TEST(ScanSolvers, DenseAndCeresReachTheSameOptimumAndCovarianceIn3dWithSixAndFourDof) {
@@ -156,21 +163,15 @@ TEST(ScanSolvers, TheStepTestAndLineSearchStopNearCeresOptimumInFewerIterations)
   std::mt19937 rng(5);
   int dense = 0, ceres = 0;
   double worst = 0.0;
-  for (const RobustLoss loss : {RobustLoss::kNone, RobustLoss::kCauchy}) {
-    for (const std::size_t k : {2u, 7u, 12u, 18u}) {
-      const Pose2 truth = test::tour_pose(k);
-      const ScanPoints pts = tour_scan(truth, loss, rng);
-      VdtOptimizerOptions o;
-      o.loss = loss;
-      o.step_sigma = 0.1;
-      o.max_iterations = 200;  // Ceres converges (a Cauchy solve creeps past the default 25)
-      const Agreement g = compare<2>(test::world().map, o, pts, truth + Pose2(0.06, -0.04, 0.03));
-      EXPECT_LT(g.mahalanobis, 0.25) << "pose " << k << " loss " << static_cast<int>(loss);
-      worst = std::max(worst, g.mahalanobis);
-      dense += g.dense_iterations;
-      ceres += g.ceres_iterations;
-    }
-  }
+  VdtOptimizerOptions stepped;
+  stepped.step_sigma = 0.1;
+  stepped.max_iterations = 200;  // Ceres converges (a Cauchy solve creeps past the default 25)
+  compare_on_the_tour(rng, stepped, [&](std::size_t k, RobustLoss loss, const Agreement& g) {
+    EXPECT_LT(g.mahalanobis, 0.25) << "pose " << k << " loss " << static_cast<int>(loss);
+    worst = std::max(worst, g.mahalanobis);
+    dense += g.dense_iterations;
+    ceres += g.ceres_iterations;
+  });
   for (int k = 0; k < 2; ++k) {
     const Pose3 truth = test::cloud_pose(k);
     const ObservationSet3 cloud = test::simulate_cloud(truth, 0.01, rng);
