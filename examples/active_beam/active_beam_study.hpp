@@ -44,6 +44,9 @@ struct Run {
   eval::AneesResult anees;
   int selections = 0;
   int gated = 0;  ///< readings refused by the ray-cast gate
+  /// Each step's time on the robot (the gate, the EKF update and the selection when the beam
+  /// needs a goal; not the simulated reading): the table's median, p99 and max.
+  std::vector<double> step_ms;
 };
 
 /// Dataset 1 (the Willow Garage map with --data, else a generated floor plan, Table 4.1's sensor)

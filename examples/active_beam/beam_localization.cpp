@@ -42,6 +42,7 @@ Run localize(const Dataset& ds, const VdtMap2& map, BeamStrategy strategy,
     const Vector2d u(std::cos(truth[2] + theta), std::sin(truth[2] + theta));
     const double r0 = sim::cast_ray<2>(ds.world, truth.head<2>(), u, ds.beam.range_max,
                                        sim::RaySurface::kCellCentre);
+    const auto step_start = Clock::now();
     bool gated = false;
     if (k > 0 && std::isfinite(r0) && r0 >= ds.beam.range_min) {
       // Data association as ActiveBeamLocalizer does it: against the ray cast from the prediction.
@@ -54,6 +55,7 @@ Run localize(const Dataset& ds, const VdtMap2& map, BeamStrategy strategy,
               r0 + ds.beam.sigma_range * eps, 0);
     }
     const LocalizationResult res = ekf.update(odo[k], pts);
+    double step_ms = std::chrono::duration<double, std::milli>(Clock::now() - step_start).count();
     last_cov = res.covariance;
     const Eigen::Vector3d e = pose_error(res.pose, truth);
     se_x += e[0] * e[0];
@@ -74,11 +76,14 @@ Run localize(const Dataset& ds, const VdtMap2& map, BeamStrategy strategy,
       const auto t0 = Clock::now();
       const BeamSelection s =
           selector.select(res.pose, res.covariance, selector.segment_of(theta), strategy);
-      select_ms += std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+      const double ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+      select_ms += ms;
+      step_ms += ms;
       ++run.selections;
       beam.set_goal(s.segment, selector);
     }
     run.goal.push_back(beam.goal());
+    run.step_ms.push_back(step_ms);
   }
   const double n = static_cast<double>(ds.drive.size());
   run.rmse_x = std::sqrt(se_x / n);

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "kidnapped_study.hpp"
+#include "vdtnav/eval/trajectory_metrics.hpp"
 #include "vdtnav/sim/lidar_simulator.hpp"
 #include "vdtnav/sim/route_planner.hpp"
 #include "vdtnav/viz/plot.hpp"
@@ -101,10 +102,11 @@ void kidnap_runs(Case& c, const VdtMap2& map, const kidnap::Options& ko, unsigne
     const double pct = 100.0 * within / n, pct_before = 100.0 * before / n;
     const double pct_clear = n > ambiguous ? 100.0 * within / (n - ambiguous) : 0.0;
     const double median = quantile(to_recover, 0.5);
+    const eval::ErrorStatistics per_scan = eval::error_statistics(trace.ms);
     char line[512];
     if (std::string(method) == "vdt-opt") {
-      std::snprintf(line, sizeof line, "%s,%d,%.1f,%.1f,%d\n", c.map.c_str(), n, pct, median,
-                    wrong);
+      std::snprintf(line, sizeof line, "%s,%d,%.1f,%.1f,%d,%.3f,%.3f,%.3f\n", c.map.c_str(), n, pct,
+                    median, wrong, per_scan.median, per_scan.p99, per_scan.max);
       kcsv << line;
       kidnap_figure(
           c.map + ": vdt-opt teleported every " + std::to_string(ko.every) + " scans (grey lines)",
@@ -112,17 +114,18 @@ void kidnap_runs(Case& c, const VdtMap2& map, const kidnap::Options& ko, unsigne
     }
     std::snprintf(line, sizeof line,
                   "| %s | %s | %d | %.1f | %d | %.1f | %.1f | %.1f | %d | %d | %d | %d | %d | "
-                  "%.1f |\n",
+                  "%.1f | %.3f, %.3f (%.3f) |\n",
                   c.map.c_str(), method, n, pct, ambiguous, pct_clear, pct_before, median, wrong,
-                  early, off, lost, searches, secs);
+                  early, off, lost, searches, secs, per_scan.median, per_scan.p99, per_scan.max);
     kmd << line;
     std::printf(
         "  kidnapped %-8s %d teleports: %.1f %% recovered within %d scans (%.1f %% outside "
         "%d ambiguous or featureless places; %.1f %% before the next), median %.1f scans, %d "
         "wrong "
-        "accepted, %d lost scans, %d global searches, %.1f s\n",
+        "accepted, %d lost scans, %d global searches, %.1f s; ms per scan median %.3f, p99 %.3f, "
+        "max %.3f\n",
         method, n, pct, ko.within, pct_clear, ambiguous, pct_before, median, wrong, lost, searches,
-        secs);
+        secs, per_scan.median, per_scan.p99, per_scan.max);
     std::fflush(stdout);
   }
 }

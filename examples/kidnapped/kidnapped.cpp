@@ -81,15 +81,16 @@ int main(int argc, char** argv) {
           "success % outside ambiguous | median s | p95 s |\n"
           "|---|---|---|---|---|---|---|---|---|---|---|\n";
     std::ofstream kcsv(out + "/kidnap.csv");
-    kcsv << "map,kidnappings,recovered_pct,scans_to_recover_median,wrong_accepted\n";
+    kcsv << "map,kidnappings,recovered_pct,scans_to_recover_median,wrong_accepted,ms_median,"
+            "ms_p99,ms_max\n";
     std::ofstream kmd(out + "/kidnap.md");
     kmd << "| map | method | kidnappings | recovered within " << ko.within
         << " scans % | in ambiguous or featureless places | recovered within " << ko.within
         << " outside them % | recovered before the next % | scans to recover (median) | wrong "
            "accepted | "
            "converged elsewhere before the window (scans) | converged off 0.3 m / 0.1 rad after "
-           "recovery (scans) | lost scans | global searches | s |\n"
-           "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+           "recovery (scans) | lost scans | global searches | s | ms/scan: median, p99 (max) |\n"
+           "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     const int rows = std::max(1, static_cast<int>(cases.size()));
     viz::Figure hist(1400, 500 * rows, rows, 1);
     for (std::size_t m = 0; m < cases.size(); ++m) {

@@ -1,5 +1,6 @@
 #include "kidnapping.hpp"
 
+#include <chrono>
 #include <cmath>
 #include <random>
 
@@ -56,7 +57,10 @@ std::vector<Outcome> run(const Drive& drive, Localizer2D& localizer, const Optio
       // The first scan of the drive starts where the localizer was reset: no motion into it.
       const OdometryStep step = seg == 0 && j == 0 ? OdometryStep{} : drive.odometry[k];
       const int ambiguous_before = recovering != nullptr ? recovering->ambiguous() : 0;
+      const auto t0 = std::chrono::steady_clock::now();
       results.push_back(localizer.update(step, drive.scans[k]));
+      const double ms =
+          std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
       if (seg > 0 && j < options.within) {
         if (drive.scans[k].size() < 10) {
           ++unrecognizable;
@@ -76,6 +80,7 @@ std::vector<Outcome> run(const Drive& drive, Localizer2D& localizer, const Optio
       if (trace != nullptr) {
         trace->error.push_back((results.back().pose.head<2>() - truth.back().head<2>()).norm());
         trace->status.push_back(results.back().status);
+        trace->ms.push_back(ms);
         if (j == 0 && seg > 0) trace->teleports.push_back(index);
       }
     }

@@ -52,6 +52,7 @@ struct Trace {
   std::vector<double> error;
   std::vector<vdtnav::LocalizationStatus> status;
   std::vector<int> teleports;  // scan indices of the teleports
+  std::vector<double> ms;      // each update's wall time, milliseconds
 };
 
 /// Runs `localizer` (reset at the first segment's true pose) through `options.kidnappings`

@@ -64,6 +64,7 @@ struct Run {
   int lost = 0, refused = 0;
   long iterations = 0;
   double seconds = 0.0;
+  std::vector<double> scan_ms;  ///< each update's wall time: the table's median, p99 and max
 };
 
 /// Writes table.csv and table.md and prints each run's summary.

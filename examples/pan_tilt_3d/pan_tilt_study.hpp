@@ -65,6 +65,7 @@ struct Cell {
   int trials = 0, converged = 0, success = 0;
   int within = 0;  ///< an estimate (converged or not) within the success thresholds
   double pos_sq = 0.0, att_sq = 0.0, ms = 0.0, observations = 0.0;
+  std::vector<double> solve_ms;  ///< each trial's solve: the table's median, p99 and max
   [[nodiscard]] double success_pct() const { return trials ? 100.0 * success / trials : 0.0; }
   [[nodiscard]] double pos_rmse() const {
     return converged ? std::sqrt(pos_sq / converged) : std::numeric_limits<double>::quiet_NaN();

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "pan_tilt_study.hpp"
+#include "vdtnav/eval/trajectory_metrics.hpp"
 
 namespace pan_tilt_study {
 namespace {
@@ -32,6 +33,7 @@ std::vector<std::vector<Cell>> tabulate(const std::vector<std::vector<Trial>>& t
         Cell& cell = cells[c][f];
         ++cell.trials;
         cell.ms += t.ms;
+        cell.solve_ms.push_back(t.ms);
         cell.observations += t.observations;
         const bool ok = t.status == LocalizationStatus::kConverged &&
                         t.position_error < kSuccessPosition && t.attitude_error < kSuccessAttitude;
@@ -69,7 +71,8 @@ void write_tables(const std::string& out, const World& world,
   returns /= static_cast<double>(n_jobs);
 
   std::ofstream csv(out + "/table.csv");
-  csv << "scenario,factor,trials,success_pct,pos_rmse_m,att_rmse_rad,ms_mean\n";
+  csv << "scenario,factor,trials,success_pct,pos_rmse_m,att_rmse_rad,ms_mean,"
+         "ms_median,ms_p99,ms_max\n";
   std::ofstream md(out + "/table.md");
   md << "## Table 3.4 / Fig. 3.18: pan-tilt point laser, " << (four_dof ? "4" : "6")
      << "-DOF VDT optimization (" << world.name << ")\n\n";
@@ -106,9 +109,10 @@ void write_tables(const std::string& out, const World& world,
         "whatever the status, as long as the optimizer produced an estimate (converged or not "
         "converged); the RMSEs (position: |t_est - t_true|, attitude: that rotation angle) are "
         "over the converged trials, successful or not; readings used = mean returns kept after "
-        "downsampling; ms = mean wall time of one solve.\n\n"
+        "downsampling; ms = wall time of one solve: mean, median, p99 (max).\n\n"
         "| scenario | factor | readings used | trials | converged | success % | within % | "
-        "pos RMSE (m) | att RMSE (rad) | ms mean |\n|---|---|---|---|---|---|---|---|---|---|\n";
+        "pos RMSE (m) | att RMSE (rad) | ms: mean, median, p99 (max) |\n"
+        "|---|---|---|---|---|---|---|---|---|---|\n";
   std::printf("\n%-8s %6s %8s %6s %9s %9s %12s %13s %8s\n", "scenario", "factor", "readings",
               "trials", "converged", "success%", "pos RMSE (m)", "att RMSE (rad)", "ms mean");
   for (std::size_t c = 0; c < kScenarios.size(); ++c)
@@ -117,15 +121,20 @@ void write_tables(const std::string& out, const World& world,
       const double used = x.observations / x.trials;
       const std::string pos = format_number(x.pos_rmse(), "%.6f");
       const std::string att = format_number(x.att_rmse(), "%.6f");
+      const eval::ErrorStatistics per_solve = eval::error_statistics(x.solve_ms);
       csv << kScenarios[c].name << ',' << kFactors[f] << ',' << x.trials << ','
           << format_number(x.success_pct(), "%.2f") << ',' << pos << ',' << att << ','
-          << format_number(x.ms_mean(), "%.3f") << '\n';
+          << format_number(x.ms_mean(), "%.3f") << ',' << format_number(per_solve.median, "%.3f")
+          << ',' << format_number(per_solve.p99, "%.3f") << ','
+          << format_number(per_solve.max, "%.3f") << '\n';
       char buf[256];
       std::snprintf(buf, sizeof buf,
-                    "| %s | %d | %.0f | %d | %d | %.1f | %.1f | %s | %s | %.2f |\n",
+                    "| %s | %d | %.0f | %d | %d | %.1f | %.1f | %s | %s | %.2f, %.2f, %.2f "
+                    "(%.2f) |\n",
                     kScenarios[c].name, kFactors[f], used, x.trials, x.converged, x.success_pct(),
                     100.0 * x.within / x.trials, format_number(x.pos_rmse(), "%.4f").c_str(),
-                    format_number(x.att_rmse(), "%.4f").c_str(), x.ms_mean());
+                    format_number(x.att_rmse(), "%.4f").c_str(), x.ms_mean(), per_solve.median,
+                    per_solve.p99, per_solve.max);
       md << buf;
       std::printf("%-8s %6d %8.0f %6d %9d %9.1f %12s %13s %8.2f\n", kScenarios[c].name, kFactors[f],
                   used, x.trials, x.converged, x.success_pct(),

@@ -66,10 +66,10 @@ FilterRun run_filters(const Scenario& sc, double correlation_length, bool schmid
   // The landmark-only filter and dead reckoning need no map: the same prediction on (x, P).
   Pose2 landmark_x = drive.truth[0], dead = drive.truth[0];
   Eigen::Matrix3d landmark_p = p0, dead_p = p0;
-  std::vector<Trace> traces{{"vdt-ekf", {}, {}, 0.0, true},
-                            {"vdt-ekf+bearings", {}, {}, 0.0, true},
-                            {"bearings", {}, {}, 0.0, false},
-                            {"odometry", {}, {}, 0.0, false}};
+  std::vector<Trace> traces{{"vdt-ekf", {}, {}, 0.0, true, {}},
+                            {"vdt-ekf+bearings", {}, {}, 0.0, true, {}},
+                            {"bearings", {}, {}, 0.0, false, {}},
+                            {"odometry", {}, {}, 0.0, false, {}}};
 
   // ------------------------------------------------------------------ the run
   std::mt19937 rng(static_cast<std::uint32_t>(seed * 7919 + 17));
@@ -87,7 +87,9 @@ FilterRun run_filters(const Scenario& sc, double correlation_length, bool schmid
     const auto t0 = Clock::now();
     const GroundBoundaries b = extractor.extract(frame);
     const ScanPoints obs = extractor.observations(b);
-    front_ms += std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+    const double frame_front_ms =
+        std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+    front_ms += frame_front_ms;
     if (k == shown) {
       shown_colour = frame.colour;
       shown_boundaries = b;
@@ -97,7 +99,9 @@ FilterRun run_filters(const Scenario& sc, double correlation_length, bool schmid
     const auto timed = [&](Trace& t, auto&& f) {
       const auto t1 = Clock::now();
       f();
-      t.ms += std::chrono::duration<double, std::milli>(Clock::now() - t1).count();
+      const double filter_ms = std::chrono::duration<double, std::milli>(Clock::now() - t1).count();
+      t.ms += filter_ms;
+      t.frame_ms.push_back(filter_ms + (t.uses_frames ? frame_front_ms : 0.0));
     };
     timed(traces[0], [&] {
       const LocalizationResult r = vdt.update(step, obs);

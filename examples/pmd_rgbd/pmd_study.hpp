@@ -28,6 +28,7 @@ struct Trace {
   std::vector<Eigen::Matrix3d> covariance;
   double ms = 0.0;  // filter time over all frames (front end excluded)
   bool uses_frames = false;
+  std::vector<double> frame_ms;  // each frame's time, the front end's included when it uses it
 };
 
 /// The generated park, its boundary map and the scooter's drive through it.

@@ -148,7 +148,9 @@ FlightRun localize_flight(const Scenario& sc, double altitude, const std::string
       const auto t1 = Clock::now();
       const LocalizationResult r = k == 0 ? methods[m]->update(OdometryStep{}, frame.observations)
                                           : methods[m]->update(s.odometry, frame.observations);
-      traces[m].ms += std::chrono::duration<double, std::milli>(Clock::now() - t1).count();
+      const double update_ms = std::chrono::duration<double, std::milli>(Clock::now() - t1).count();
+      traces[m].ms += update_ms;
+      traces[m].frame_ms.push_back(update_ms);
       traces[m].estimate.push_back(r.pose);
       traces[m].covariance.push_back(r.covariance);
       traces[m].has_cov.push_back(

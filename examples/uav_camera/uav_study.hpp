@@ -32,7 +32,8 @@ struct Trace {
   std::vector<char> has_cov;
   std::vector<vdtnav::LocalizationStatus> status;
   std::vector<int> iterations;
-  double ms = 0.0;  // localizer time, all frames
+  double ms = 0.0;               // localizer time, all frames
+  std::vector<double> frame_ms;  // each frame's localizer time (the table adds the front end's)
 };
 
 /// What the study flies over and how: the camera, the scene, the marking map it localizes on

@@ -2,6 +2,7 @@
 // per-reading map floor and with the fitted map's own covariance (thesis ch. 5's use of the map
 // uncertainty), by vdt-opt and vdt-ekf.
 
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <memory>
@@ -12,6 +13,7 @@
 #include "vdtnav/estimation/vdt_ekf.hpp"
 #include "vdtnav/estimation/vdt_optimizer.hpp"
 #include "vdtnav/eval/nees.hpp"
+#include "vdtnav/eval/trajectory_metrics.hpp"
 #include "vdtnav/viz/plot.hpp"
 
 namespace study {
@@ -103,8 +105,13 @@ std::vector<LocalizationRow> localize_on_fitted_map(const mapping::UncertainVdtM
       std::vector<double> nees;
       double se_pos = 0.0, se_ori = 0.0;
       Track tr;
+      std::vector<double> scan_ms;
       for (std::size_t k = 0; k < run.size(); ++k) {
+        const auto t0 = std::chrono::steady_clock::now();
         const LocalizationResult res = loc->update(run.odometry[k], run.scans[k]);
+        scan_ms.push_back(
+            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
+                .count());
         const Eigen::Vector3d e = pose_error(res.pose, run.truth[k]);
         se_pos += e.head<2>().squaredNorm();
         se_ori += e[2] * e[2];
@@ -127,10 +134,13 @@ std::vector<LocalizationRow> localize_on_fitted_map(const mapping::UncertainVdtM
       row.anees_hi = a.interval.upper;
       row.anees_left_out = run.size() - a.count;
       row.anees_note = eval::left_out_note(a, run.size());
+      row.ms = eval::error_statistics(scan_ms);
       std::printf(
-          "  %-28s position RMSE %.4f m, heading RMSE %.5f rad, ANEES %.2f [%.2f, %.2f]%s\n",
+          "  %-28s position RMSE %.4f m, heading RMSE %.5f rad, ANEES %.2f [%.2f, %.2f]%s, "
+          "%.3f ms per scan (median %.3f, p99 %.3f, max %.3f)\n",
           row.map_model.c_str(), row.pos_rmse, row.ori_rmse, row.anees, row.anees_lo, row.anees_hi,
-          a.interval.contains(a.anees) ? "" : " (outside)");
+          a.interval.contains(a.anees) ? "" : " (outside)", row.ms.mean, row.ms.median, row.ms.p99,
+          row.ms.max);
       rows.push_back(row);
       if (std::string(method) == "vdt-opt") opt_tracks.push_back(std::move(tr));
     }

@@ -13,6 +13,7 @@
 
 #include <Eigen/Core>
 
+#include "vdtnav/eval/trajectory_metrics.hpp"
 #include "vdtnav/map/grid.hpp"
 #include "vdtnav/mapping/uncertain_vdt_map.hpp"
 #include "vdtnav/sim/lidar_simulator.hpp"
@@ -93,8 +94,9 @@ vdtnav::sim::MappingScene corridor(const std::string& data, std::uint32_t seed);
 struct LocalizationRow {
   std::string map_model;
   double pos_rmse = 0.0, ori_rmse = 0.0, anees = 0.0, anees_lo = 0.0, anees_hi = 0.0;
-  std::size_t anees_left_out = 0;  ///< poses the ANEES leaves out (no covariance, no finite NEES)
-  std::string anees_note;          ///< eval::left_out_note: how many and why; "" for none
+  std::size_t anees_left_out = 0;    ///< poses the ANEES leaves out (no covariance, no finite NEES)
+  std::string anees_note;            ///< eval::left_out_note: how many and why; "" for none
+  vdtnav::eval::ErrorStatistics ms;  ///< each update's wall time, milliseconds
 };
 
 /// Drives `drive` through `world` again (a new run of `lidar` with Table 3.2's odometry and range

@@ -24,6 +24,7 @@
 #include "vdtnav/estimation/multi_start.hpp"
 #include "vdtnav/estimation/recovering_localizer3d.hpp"
 #include "vdtnav/estimation/vdt_optimizer.hpp"
+#include "vdtnav/eval/trajectory_metrics.hpp"
 #include "vdtnav/io/tum_trajectory.hpp"
 #include "vdtnav/pcl/cloud_observations.hpp"
 #include "vdtnav/pcl/point_cloud_file.hpp"
@@ -297,6 +298,7 @@ void run_localize3d(const Localize3dArgs& a) {
   Pose3 last = init, before_last = init;
   std::size_t accepted = 0, refused = 0, lost = 0;
   std::size_t count = 0;
+  std::vector<double> scan_ms;  // each scan's reading and solve: the summary's median, p99, max
   // One scan: solved from --init (or the prediction) until one is accepted, then tracked with the
   // motion given (odometry, and roll and pitch from an IMU) or constant velocity.
   const auto handle = [&](const std::string& name, double t, const ObservationSet3& obs,
@@ -327,6 +329,7 @@ void run_localize3d(const Localize3dArgs& a) {
     const auto t2 = std::chrono::steady_clock::now();
     r.read_ms = read_ms;
     r.solve_ms = std::chrono::duration<double, std::milli>(t2 - t1).count();
+    scan_ms.push_back(read_ms + r.solve_ms);
     if (r.result.status == LocalizationStatus::kConverged) {
       before_last = accepted == 0 ? r.result.pose : last;
       last = r.result.pose;
@@ -440,6 +443,13 @@ void run_localize3d(const Localize3dArgs& a) {
   }
   std::fprintf(stderr, "[localize3d] %zu scans: %zu converged, %zu not (%zu lost)\n", count,
                accepted, refused, lost);
+  if (count > 0) {
+    const eval::ErrorStatistics ms = eval::error_statistics(scan_ms);
+    std::fprintf(stderr,
+                 "[localize3d] ms per scan (reading the cloud and solving): %.3f mean, %.3f "
+                 "median, %.3f p99, %.3f max\n",
+                 ms.mean, ms.median, ms.p99, ms.max);
+  }
   if (accepted == 0) {
     throw NotLocalized("localize3d: no scan of " + std::to_string(count) +
                        " localized (converged): the map does not explain them at the guess "
