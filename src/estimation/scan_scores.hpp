@@ -14,6 +14,17 @@
 
 namespace vdtnav::detail {
 
+/// The share of the readings that are inliers with |d_i| < distance, given the disparities of all
+/// the readings at one pose (any DisparityParts: the values and the gate are the same).
+template <int Dim>
+double explained_fraction_of(const std::vector<BeamDisparityT<Dim>>& ds, double distance) {
+  if (ds.empty()) return 0.0;
+  const double d2 = distance * distance;
+  std::size_t n = 0;
+  for (const BeamDisparityT<Dim>& b : ds) n += b.inlier && b.d.squaredNorm() < d2;
+  return static_cast<double>(n) / static_cast<double>(ds.size());
+}
+
 /// The share of the readings that are inliers with |d_i| < distance, at the pose (R, t).
 template <int Dim>
 double explained_fraction_at(const VdtSensorModelT<Dim>& model, const ObservationSet<Dim>& set,
@@ -22,10 +33,7 @@ double explained_fraction_at(const VdtSensorModelT<Dim>& model, const Observatio
   if (set.size() == 0) return 0.0;
   thread_local std::vector<BeamDisparityT<Dim>> ds;  // scratch: no allocation per call
   model.disparities(r, t, set, nullptr, &ds, DisparityParts::kValue);
-  const double d2 = distance * distance;
-  std::size_t n = 0;
-  for (const BeamDisparityT<Dim>& b : ds) n += b.inlier && b.d.squaredNorm() < d2;
-  return static_cast<double>(n) / static_cast<double>(set.size());
+  return explained_fraction_of(ds, distance);
 }
 
 /// The truncated VCD sum_i min(|d_i|^2, tau^2), an unexplained reading counting tau^2, over the

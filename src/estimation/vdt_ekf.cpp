@@ -13,6 +13,7 @@
 #include <Eigen/Cholesky>
 #include <Eigen/LU>
 
+#include "scan_scores.hpp"
 #include "vdt_ekf_schmidt.hpp"
 #include "vdtnav/core/error.hpp"
 
@@ -142,9 +143,18 @@ LocalizationResult VdtEkfLocalizer::update(const OdometryStep& odometry, const S
     if (step.head<2>().norm() < 1e-5 && std::abs(step[2]) < 1e-5) break;
   }
   result.dropped = valid + invalid - result.inliers;
-  const double explained = result.inliers < options_.min_inliers
-                               ? 0.0
-                               : explained_fraction(model_, pts, xi, so.explained_distance);
+  // The correlated squares' term below needs the disparities at the estimate with their Jacobians;
+  // the explained fraction is counted from the same lookups (their values and gate are those of
+  // explained_fraction's), one pass over the scan instead of two.
+  const bool squares =
+      !joint && model_.options().map_uncertainty == nullptr && model_.map_sigma_correlated() > 0.0;
+  double explained = 0.0;
+  if (result.inliers >= options_.min_inliers && squares) {
+    model_.disparities(PoseTraits<2>::rotation(xi), xi.head<2>(), pts, nullptr, &disparities);
+    explained = detail::explained_fraction_of(disparities, so.explained_distance);
+  } else if (result.inliers >= options_.min_inliers) {
+    explained = explained_fraction(model_, pts, xi, so.explained_distance);
+  }
   if (result.inliers < options_.min_inliers ||
       explained * static_cast<double>(valid) < options_.min_inliers) {
     result.status = LocalizationStatus::kTooFewObservations;  // prediction only
@@ -172,13 +182,13 @@ LocalizationResult VdtEkfLocalizer::update(const OdometryStep& odometry, const S
     Eigen::Matrix3d map_term = Eigen::Matrix3d::Zero();
     if (model_.options().map_uncertainty != nullptr) {
       map_term = map_covariance(info - prior_info, xi, pts, &disparities);
-    } else if (model_.map_sigma_correlated() > 0.0) {
+    } else if (squares) {
       // Map errors shared by the readings of one square of the map (VdtSensorModelOptions::
       // map_correlation_length), considered like the shared errors above: per group k,
-      // S_k = info^-1 sum_{i in k} H_i^T R_i^-1 d_point_i and P+ gains S_k sigma_c^2 S_k^T.
+      // S_k = info^-1 sum_{i in k} H_i^T R_i^-1 d_point_i and P+ gains S_k sigma_c^2 S_k^T. The
+      // disparities at xi are those the explained fraction was counted from.
       const Eigen::Rotation2Dd rot(xi[2]);
       std::unordered_map<std::int64_t, Eigen::Matrix<double, 3, 2>> groups;
-      model_.disparities(PoseTraits<2>::rotation(xi), xi.head<2>(), pts, nullptr, &disparities);
       for (std::size_t i = 0; i < pts.size(); ++i) {
         const BeamDisparity& bd = disparities[i];
         if (!bd.inlier) continue;

@@ -71,33 +71,42 @@ void VdtSensorModelT<Dim>::disparities(const Rotation& r, const Vector& t,
                                        const std::vector<int>* beams, std::vector<Disparity>* out,
                                        DisparityParts parts) const {
   const std::size_t n = beams != nullptr ? beams->size() : observations.size();
-  const auto reading = [&](std::size_t k) {
-    return beams != nullptr ? static_cast<std::size_t>((*beams)[k]) : k;
+  const int* index = beams != nullptr ? beams->data() : nullptr;
+  const auto reading = [index](std::size_t k) {
+    return index != nullptr ? static_cast<std::size_t>(index[k]) : k;
   };
-  // Scratch of this thread: the estimators call this once per pass over a scan.
-  thread_local std::vector<Vector> rotated, endpoints;  // R p_i (for d_pose) and R p_i + t
-  thread_local std::vector<VdtSample<Dim>> samples;
-  rotated.resize(n);
-  endpoints.resize(n);
-  samples.resize(n);
+  // Scratch of this thread: the estimators call this once per pass over a scan. The loops below
+  // run on plain pointers: a thread_local vector reached inside a loop is looked up again at each
+  // access (its address through the TLS block, its data pointer through memory).
+  thread_local std::vector<Vector> rotated_tl, endpoints_tl;  // R p_i (for d_pose) and R p_i + t
+  thread_local std::vector<VdtSample<Dim>> samples_tl;
+  rotated_tl.resize(n);
+  endpoints_tl.resize(n);
+  samples_tl.resize(n);
+  out->resize(n);
+  Vector* const rotated = rotated_tl.data();
+  Vector* const endpoints = endpoints_tl.data();
+  VdtSample<Dim>* const samples = samples_tl.data();
+  Disparity* const result = out->data();
+  const Vector* const points = observations.points.data();
   for (std::size_t k = 0; k < n; ++k) {
-    rotated[k] = r * observations.points[reading(k)];
+    rotated[k] = r * points[reading(k)];
     endpoints[k] = rotated[k] + t;
   }
   if (options_.residual == ResidualMode::kNearestPoint) {
     for (std::size_t k = 0; k < n; ++k) samples[k] = map_->nearest_point_query(endpoints[k]);
   } else {
-    map_->evaluate(endpoints.data(), n, samples.data(), parts != DisparityParts::kValue);
+    map_->evaluate(endpoints, n, samples, parts != DisparityParts::kValue);
   }
-  out->resize(n);
   if (parts == DisparityParts::kAll) {
+    const Vector* const directions = observations.directions.data();
     for (std::size_t k = 0; k < n; ++k) {
-      (*out)[k] = from_sample(samples[k], r, rotated[k], observations.directions[reading(k)]);
+      result[k] = from_sample(samples[k], r, rotated[k], directions[reading(k)]);
     }
     return;
   }
   for (std::size_t k = 0; k < n; ++k) {
-    Disparity& b = (*out)[k];
+    Disparity& b = result[k];
     b.d = samples[k].value;
     b.inside = samples[k].inside;
     b.inlier = b.inside && passes_gate(b.d);
