@@ -149,11 +149,13 @@ LocalizationResult VdtEkfLocalizer::update(const OdometryStep& odometry, const S
   const bool squares =
       !joint && model_.options().map_uncertainty == nullptr && model_.map_sigma_correlated() > 0.0;
   double explained = 0.0;
-  if (result.inliers >= options_.min_inliers && squares) {
-    model_.disparities(PoseTraits<2>::rotation(xi), xi.head<2>(), pts, nullptr, &disparities);
-    explained = detail::explained_fraction_of(disparities, so.explained_distance);
-  } else if (result.inliers >= options_.min_inliers) {
-    explained = explained_fraction(model_, pts, xi, so.explained_distance);
+  if (result.inliers >= options_.min_inliers) {
+    if (squares) {
+      model_.disparities(PoseTraits<2>::rotation(xi), xi.head<2>(), pts, nullptr, &disparities);
+      explained = detail::explained_fraction_of(disparities, so.explained_distance);
+    } else {
+      explained = explained_fraction(model_, pts, xi, so.explained_distance);
+    }
   }
   if (result.inliers < options_.min_inliers ||
       explained * static_cast<double>(valid) < options_.min_inliers) {
