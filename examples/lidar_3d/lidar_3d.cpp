@@ -20,8 +20,8 @@
 // builder's pose error the solves stop at their iteration limit and the multi-start follows,
 // ~50x the exact map's time per scan (README, 3D LiDAR).
 // Writes to --out: table.csv (method,scans,pos_rmse_m,att_rmse_rad,anees,anees_lo,anees_hi,
-// lost_pct,ms_per_scan,anees_left_out,ms_median,ms_p99,ms_max), table.md, trajectory.png (top
-// view), errors.png (errors with +-2 sigma).
+// lost_pct,ms_per_scan,anees_left_out,ms_median,ms_p99,ms_max,nees_inside_95_pct), table.md,
+// trajectory.png (top view), errors.png (errors with +-2 sigma).
 #include <CLI/CLI.hpp>
 
 #include <chrono>

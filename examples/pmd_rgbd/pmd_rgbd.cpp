@@ -14,7 +14,8 @@
 //   vdtnav_pmd_rgbd --kinect FRAMES_DIR [--calibration FILE] [--out DIR]
 //
 // Writes DIR/table.csv (method,frames,pos_rmse_m,yaw_rmse_rad,anees,anees_lo,anees_hi,
-// within_2sigma_pct,ms_per_frame,anees_left_out,ms_median,ms_p99,ms_max), table.md, errors.png
+// within_2sigma_pct,ms_per_frame,anees_left_out,ms_median,ms_p99,ms_max,nees_inside_95_pct),
+// table.md, errors.png
 // (Fig. 3.23: errors with +-2 sigma), trajectories.png (Fig. 3.24) and frame.png (one frame with
 // its kept and pruned boundaries). With --kinect, instead: relative localization between recorded
 // RGB-D frames (color/{1..5}.png, depth/{1..5}.pgm in mm, pose.txt camera-to-world "tx ty tz qx qy

@@ -60,6 +60,7 @@ Metrics evaluate(const Trace& t, const sim::SimulatedRun& run) {
     const eval::ChiSquareInterval bounds = eval::anees_interval(nees.size(), 3, 0.95);
     m.anees_lo = bounds.lower;
     m.anees_hi = bounds.upper;
+    m.nees_inside_95_pct = eval::anees(nees, 3).inside_95_pct;
   }
   m.lost_pct = 100.0 * lost / static_cast<double>(pe.size());
   set_times(m, t.ms);
@@ -81,6 +82,7 @@ Metrics combine(const std::vector<Metrics>& r) {
   m.has_cov = r[0].has_cov;
   m.anees = mean(col(&Metrics::anees)), m.anees_lo = mean(col(&Metrics::anees_lo));
   m.anees_hi = mean(col(&Metrics::anees_hi)), m.lost_pct = mean(col(&Metrics::lost_pct));
+  m.nees_inside_95_pct = mean(col(&Metrics::nees_inside_95_pct));
   std::vector<double> ms;
   for (const auto& x : r) ms.insert(ms.end(), x.ms.begin(), x.ms.end());
   set_times(m, std::move(ms));

@@ -27,7 +27,8 @@ struct Metrics {
   double pos_mse = 0, pos_mse_std = 0, ori_mse = 0, ori_mse_std = 0;
   bool has_cov = false;
   double anees = 0, anees_lo = 0, anees_hi = 0, lost_pct = 0;
-  std::vector<double> ms;  ///< every scan's milliseconds (of all runs when combined)
+  double nees_inside_95_pct = 0;  ///< the per-step 95 % bound (eval::AneesResult::inside_95_pct)
+  std::vector<double> ms;         ///< every scan's milliseconds (of all runs when combined)
   vdtnav::eval::ErrorStatistics ms_stats;  ///< of ms: mean, median, p99 (nearest rank), max
 };
 

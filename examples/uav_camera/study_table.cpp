@@ -30,10 +30,11 @@ void write_tables(const std::string& out, const Scenario& sc, const FlightRun& r
   for (char f : features) with_features += f ? 1 : 0;
   std::ofstream csv(out + "/table.csv");
   csv << "method,frames,localized_pct,pos_rmse_m,yaw_rmse_rad,anees,anees_lo,anees_hi,"
-         "recovery_s,ms_per_frame,anees_left_out,ms_median,ms_p99,ms_max\n";
+         "recovery_s,ms_per_frame,anees_left_out,ms_median,ms_p99,ms_max,nees_inside_95_pct\n";
   std::ofstream md(out + "/table.md");
   md << "| method | frames | localized % | pos RMSE (m) | yaw RMSE (rad) | ANEES [95 %] | "
-        "recovery (s) | ms/frame: mean, median, p99 (max) |\n|---|---|---|---|---|---|---|---|\n";
+        "NEES ≤ χ²₃(95 %) (%) | recovery (s) | ms/frame: mean, median, p99 (max) |\n"
+        "|---|---|---|---|---|---|---|---|---|\n";
   std::printf("\n%-8s %6s %9s %9s %9s %18s %9s %8s\n", "method", "frames", "local.%", "pos[m]",
               "yaw[rad]", "ANEES [95%]", "recov[s]", "ms");
   for (const Trace& t : traces) {
@@ -67,13 +68,15 @@ void write_tables(const std::string& out, const Scenario& sc, const FlightRun& r
     if (recovery.empty()) recovery_s = std::nan("");
     double anees = std::nan(""), lo = std::nan(""), hi = std::nan("");
     std::size_t left_out = with_features;
-    std::string note;  // the frames that see the road the ANEES leaves out, and why
+    std::string note;                  // the frames that see the road the ANEES leaves out, and why
+    double inside_pct = std::nan("");  // the per-frame 95 % bound (eval::AneesResult)
     if (has_cov && !nees_values.empty()) {
       const eval::AneesResult a = eval::anees(nees_values, 3);
       anees = a.anees;
       lo = a.interval.lower;
       hi = a.interval.upper;
       left_out = with_features - a.count;
+      inside_pct = a.inside_95_pct;
       note = eval::left_out_note(a, with_features, "not localized or without a covariance");
     }
     const double pct = with_features ? 100.0 * localized / with_features : 0.0;
@@ -99,22 +102,23 @@ void write_tables(const std::string& out, const Scenario& sc, const FlightRun& r
     std::vector<double> frame_ms = t.frame_ms;  // the front end's time and the localizer's
     for (std::size_t k = 0; k < frame_ms.size(); ++k) frame_ms[k] += front_ms[k];
     const eval::ErrorStatistics per_frame = eval::error_statistics(frame_ms);
-    char line[512];
+    char line[512], inside_text[16] = "—";
+    if (!std::isnan(inside_pct)) std::snprintf(inside_text, sizeof inside_text, "%.1f", inside_pct);
     std::snprintf(line, sizeof line,
-                  "%s,%zu,%.2f,%.4f,%.5f,%.3f,%.3f,%.3f,%.2f,%.3f,%zu,%.3f,%.3f,%.3f\n",
+                  "%s,%zu,%.2f,%.4f,%.5f,%.3f,%.3f,%.3f,%.2f,%.3f,%zu,%.3f,%.3f,%.3f,%.1f\n",
                   t.name.c_str(), flight.size(), pct, rms(pos), rms(yaw), anees, lo, hi, recovery_s,
-                  ms, left_out, per_frame.median, per_frame.p99, per_frame.max);
+                  ms, left_out, per_frame.median, per_frame.p99, per_frame.max, inside_pct);
     csv << line;
     std::snprintf(
         line, sizeof line,
-        "| %s | %zu | %.1f | %.4f | %.5f | %s | %s | %.2f, %.2f, %.2f (%.2f) |\n", t.name.c_str(),
-        flight.size(), pct, rms(pos), rms(yaw),
+        "| %s | %zu | %.1f | %.4f | %.5f | %s | %s | %s | %.2f, %.2f, %.2f (%.2f) |\n",
+        t.name.c_str(), flight.size(), pct, rms(pos), rms(yaw),
         has_cov
             ? (std::to_string(anees).substr(0, 5) + " [" + std::to_string(lo).substr(0, 4) + ", " +
                std::to_string(hi).substr(0, 4) + "]" + (note.empty() ? "" : " (" + note + ")"))
                   .c_str()
             : "—",
-        recovery.empty() ? "—" : std::to_string(recovery_s).substr(0, 4).c_str(), ms,
+        inside_text, recovery.empty() ? "—" : std::to_string(recovery_s).substr(0, 4).c_str(), ms,
         per_frame.median, per_frame.p99, per_frame.max);
     md << line;
     std::printf("%-8s %6zu %9.1f %9.4f %9.5f %8.2f [%.2f,%.2f] %9.2f %8.2f\n", t.name.c_str(),

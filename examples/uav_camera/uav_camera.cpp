@@ -9,7 +9,8 @@
 //                     [--solver default|dense|ceres] [--verbose]
 //
 // Writes DIR/table.csv (method,frames,localized_pct,pos_rmse_m,yaw_rmse_rad,anees,anees_lo,
-// anees_hi,recovery_s,ms_per_frame,anees_left_out,ms_median,ms_p99,ms_max), table.md,
+// anees_hi,recovery_s,ms_per_frame,anees_left_out,ms_median,ms_p99,ms_max,nees_inside_95_pct:
+// the percentage of the frames with a covariance whose NEES is within chi^2_3(0.95)), table.md,
 // trajectory.png (Fig. 3.13), errors_vdt_opt.png and errors_vdt_ekf.png (Fig. 3.14), frame.png, and
 // the marking map (map.png + map.yaml) it localizes on, read back through the map_server reader as
 // a user's map would be.

@@ -134,6 +134,7 @@ std::vector<LocalizationRow> localize_on_fitted_map(const mapping::UncertainVdtM
       row.anees_hi = a.interval.upper;
       row.anees_left_out = run.size() - a.count;
       row.anees_note = eval::left_out_note(a, run.size());
+      row.nees_inside_95_pct = a.inside_95_pct;
       row.ms = eval::error_statistics(scan_ms);
       std::printf(
           "  %-28s position RMSE %.4f m, heading RMSE %.5f rad, ANEES %.2f [%.2f, %.2f]%s, "

@@ -34,21 +34,22 @@ void write_tables(const std::string& out, const std::vector<Row>& rows, const si
   }
   std::ofstream lcsv(out + "/localization.csv");
   lcsv << "map_model,pos_rmse_m,ori_rmse_rad,anees,anees_lo,anees_hi,anees_left_out,ms_mean,"
-          "ms_median,ms_p99,ms_max\n";
+          "ms_median,ms_p99,ms_max,nees_inside_95_pct\n";
   md << "\nLocalization on the Experiment 2 map (" << c2.name
      << "):\n\n| map model | position RMSE (m) | orientation RMSE (rad) | ANEES [95 %] | "
-        "ms/scan: mean, median, p99 (max) |\n|---|---|---|---|---|\n";
+        "NEES ≤ χ²₃(95 %) (%) | ms/scan: mean, median, p99 (max) |\n|---|---|---|---|---|---|\n";
   for (const auto& r : loc) {
     char line[512];
-    std::snprintf(line, sizeof line, "%s,%.5f,%.6f,%.3f,%.3f,%.3f,%zu,%.4f,%.4f,%.4f,%.4f\n",
+    std::snprintf(line, sizeof line, "%s,%.5f,%.6f,%.3f,%.3f,%.3f,%zu,%.4f,%.4f,%.4f,%.4f,%.1f\n",
                   r.map_model.c_str(), r.pos_rmse, r.ori_rmse, r.anees, r.anees_lo, r.anees_hi,
-                  r.anees_left_out, r.ms.mean, r.ms.median, r.ms.p99, r.ms.max);
+                  r.anees_left_out, r.ms.mean, r.ms.median, r.ms.p99, r.ms.max,
+                  r.nees_inside_95_pct);
     lcsv << line;
     std::snprintf(line, sizeof line,
-                  "| %s | %.4f | %.5f | %.2f [%.2f, %.2f]%s | %.3f, %.3f, %.3f (%.3f) |\n",
+                  "| %s | %.4f | %.5f | %.2f [%.2f, %.2f]%s | %.1f | %.3f, %.3f, %.3f (%.3f) |\n",
                   r.map_model.c_str(), r.pos_rmse, r.ori_rmse, r.anees, r.anees_lo, r.anees_hi,
-                  r.anees_note.empty() ? "" : (" (" + r.anees_note + ")").c_str(), r.ms.mean,
-                  r.ms.median, r.ms.p99, r.ms.max);
+                  r.anees_note.empty() ? "" : (" (" + r.anees_note + ")").c_str(),
+                  r.nees_inside_95_pct, r.ms.mean, r.ms.median, r.ms.p99, r.ms.max);
     md << line;
   }
 }

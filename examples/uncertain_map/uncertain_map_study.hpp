@@ -96,6 +96,7 @@ struct LocalizationRow {
   double pos_rmse = 0.0, ori_rmse = 0.0, anees = 0.0, anees_lo = 0.0, anees_hi = 0.0;
   std::size_t anees_left_out = 0;    ///< poses the ANEES leaves out (no covariance, no finite NEES)
   std::string anees_note;            ///< eval::left_out_note: how many and why; "" for none
+  double nees_inside_95_pct = 0.0;   ///< the per-step 95 % bound (eval::AneesResult)
   vdtnav::eval::ErrorStatistics ms;  ///< each update's wall time, milliseconds
 };
 

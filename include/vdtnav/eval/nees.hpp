@@ -89,7 +89,17 @@ struct AneesResult {
   /// true when count > 0, failures == 0 and anees lies in the interval: the covariance is
   /// consistent at the confidence level; below means conservative, above over-confident.
   bool consistent = false;
+  /// The per-step 95 % bound: the percentage of the values (finite or not) at or below
+  /// chi2_95(dof), 95 % when the covariance is calibrated. The ANEES alone can hide a few huge
+  /// outliers in a conservative run or many small misses; non-finite values count as outside.
+  /// NaN when there are no values.
+  double inside_95_pct = std::numeric_limits<double>::quiet_NaN();
 };
+
+/// \return the chi-square distribution's 95 % point with `dof` degrees of freedom: the table
+/// values for 1-6 (3.841, 5.991, 7.815, 9.488, 11.070, 12.592), Wilson-Hilferty above (within
+/// 1.5 % from 10 dof: Chi2Quantile's test).
+[[nodiscard]] double chi2_95(int dof);
 
 /// \return what a table prints beside an ANEES of a run of `poses` poses: "" when every pose is
 /// in it, else "C of P poses: U <why_excluded>, F no finite NEES" (U = poses the caller left out
