@@ -163,6 +163,9 @@ void visit(V& v, VdtEkfOptions& o) {
   v.integer("min_inliers", o.min_inliers, "count", "fewer usable readings: prediction only");
   v.integer("max_iterations", o.max_iterations, "count",
             "iterated-EKF relinearisations (1: classic EKF)");
+  v.choice("loss", o.loss, kLosses,
+           "robust loss on each reading's squared disparity (IRLS weights in the update)");
+  v.number("loss_scale", o.loss_scale, "m", "where the robust loss departs from quadratic");
   v.section("search", "window search and acceptance", [&](V& s) { visit(s, o.search); });
   v.flag("optimizer_start", o.optimizer_start,
          "start the iterations at the optimizer's solution (settings: start)");

@@ -13,6 +13,7 @@
 #include <Eigen/Cholesky>
 #include <Eigen/LU>
 
+#include "scan_lm.hpp"
 #include "scan_scores.hpp"
 #include "vdt_ekf_schmidt.hpp"
 #include "vdtnav/core/error.hpp"
@@ -100,6 +101,10 @@ LocalizationResult VdtEkfLocalizer::update(const OdometryStep& odometry, const S
     return point_cov ? model_.disparity_covariance_point(bd, pts.point_covariances[i])
                      : model_.disparity_covariance(bd, pts.sigma_range);
   };
+  // The robust loss's IRLS weight of a reading at the iterate (VdtEkfOptions::loss).
+  const auto weight_of = [&](const BeamDisparity& bd) {
+    return detail::robust_weight(options_.loss, options_.loss_scale, bd.d.squaredNorm());
+  };
   const Eigen::Matrix3d prior_info = p_.inverse();
   Eigen::Matrix3d info = prior_info;
   Eigen::Matrix<double, 3, Eigen::Dynamic, 0, 3, ScanPoints::kMaxShared> cross(3, k);
@@ -128,7 +133,7 @@ LocalizationResult VdtEkfLocalizer::update(const OdometryStep& odometry, const S
       const BeamDisparity& bd = disparities[i];
       if (!bd.inlier) continue;
       ++used;
-      const Eigen::Matrix2d r_inv = noise_of(bd, i).inverse();
+      const Eigen::Matrix2d r_inv = weight_of(bd) * noise_of(bd, i).inverse();  // (R_i / w_i)^-1
       const Eigen::Matrix<double, 3, 2> htri = bd.d_pose.transpose() * r_inv;
       info.noalias() += htri * bd.d_pose;
       b.noalias() -= htri * bd.d;  // (3.12) corrected: innovation -d, the expected disparity is 0
@@ -194,7 +199,7 @@ LocalizationResult VdtEkfLocalizer::update(const OdometryStep& odometry, const S
       for (std::size_t i = 0; i < pts.size(); ++i) {
         const BeamDisparity& bd = disparities[i];
         if (!bd.inlier) continue;
-        const Eigen::Matrix2d r_inv = noise_of(bd, i).inverse();
+        const Eigen::Matrix2d r_inv = weight_of(bd) * noise_of(bd, i).inverse();
         const Eigen::Vector2d world = rot * pts.points[i] + xi.head<2>();
         auto [it, fresh] = groups.try_emplace(model_.map_error_group(world));
         if (fresh) it->second.setZero();

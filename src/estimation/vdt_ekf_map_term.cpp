@@ -9,6 +9,7 @@
 
 #include <Eigen/Cholesky>
 
+#include "scan_lm.hpp"
 #include "vdtnav/map/map_uncertainty.hpp"
 
 namespace vdtnav {
@@ -36,7 +37,8 @@ Eigen::Matrix3d VdtEkfLocalizer::map_covariance(const Eigen::Matrix3d& scan_info
                                   : model_.disparity_covariance(bd, pts.sigma_range);
     inliers.push_back(i);
     world.push_back(rot * pts.points[i] + xi.head<2>());
-    sens.push_back(scan_ldlt.solve(bd.d_pose.transpose() * r.inverse()));
+    const double w = detail::robust_weight(options_.loss, options_.loss_scale, bd.d.squaredNorm());
+    sens.push_back(scan_ldlt.solve(w * bd.d_pose.transpose() * r.inverse()));
   }
   std::vector<char> known;
   Eigen::Matrix3d term = model_.options().map_uncertainty->propagate(world, sens, &known);

@@ -13,6 +13,7 @@
 #include <Eigen/Cholesky>
 #include <Eigen/LU>
 
+#include "scan_lm.hpp"
 #include "vdtnav/estimation/vdt_ekf.hpp"
 
 namespace vdtnav {
@@ -70,7 +71,9 @@ SchmidtStep schmidt_iterations(const VdtSensorModel& model, const VdtEkfOptions&
       const BeamDisparity& bd = disparities[i];
       if (!bd.inlier) continue;
       ++used;
+      // (R_i / w_i)^-1 with the robust loss's IRLS weight w_i (VdtEkfOptions::loss).
       const Eigen::Matrix2d r_inv =
+          detail::robust_weight(options.loss, options.loss_scale, bd.d.squaredNorm()) *
           (point_cov ? model.disparity_covariance_point(bd, pts.point_covariances[i])
                      : model.disparity_covariance(bd, pts.sigma_range))
               .inverse();

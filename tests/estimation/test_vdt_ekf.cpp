@@ -171,6 +171,56 @@ TEST(VdtEkfUpdate, ConvergedIteratedUpdateIsNotOverConfident) {
   EXPECT_GE(a.anees, 0.75 * 3.0);
 }
 
+/// Clutter inside the gate (what a camera's grass and cracks, or people in front of a wall, give
+/// a scan): a quarter of the beams, chosen at random, end 0.1-0.4 m short of the wall, inside the
+/// default 0.5 m gate. Monte Carlo over 300 scans from priors drawn around the truth, the iterated
+/// update run to convergence: with every gated reading counted fully, (3.13)-(3.21), the clutter
+/// is taken for wall and the posterior is far over-confident (measured ANEES 243); with
+/// VdtEkfOptions::loss (Cauchy at 0.05 m, 2.5 range sigma) its IRLS weights discount it to within
+/// 1.5x of calibrated (measured 4.15, 23 % over the 99 % interval's upper end 3.38: a clutter
+/// reading 0.1-0.4 m short still keeps 2-20 % of its weight, and all of it pulls one way; Cauchy
+/// at 0.03 m measured 3.55, at 0.1 m 10.9).
+eval::AneesResult clutter_anees(RobustLoss loss) {
+  VdtEkfOptions o = classic_ekf_options();
+  o.max_iterations = 20;
+  o.loss = loss;
+  o.loss_scale = 0.05;
+  const Pose2 truth = test::tour_pose(7);
+  Eigen::Matrix3d p0;
+  p0 << 4e-4, 1e-4, 0.0, 1e-4, 9e-4, 2e-5, 0.0, 2e-5, 2.5e-4;
+  const Eigen::Matrix3d l0 = p0.llt().matrixL();
+  std::mt19937 rng(4242);
+  std::normal_distribution<double> n01(0.0, 1.0);
+  std::uniform_real_distribution<double> u01(0.0, 1.0);
+  std::vector<double> nees;
+  for (int k = 0; k < 300; ++k) {
+    const Eigen::Vector3d dx = l0 * Eigen::Vector3d(n01(rng), n01(rng), n01(rng));
+    const Pose2 x0(truth[0] + dx[0], truth[1] + dx[1], wrap_angle(truth[2] + dx[2]));
+    LaserScan scan = test::simulate_scan(truth, 0.02, rng, 361);
+    for (double& range : scan.ranges) {
+      if (std::isfinite(range) && range > 1.0 && u01(rng) < 0.25) range -= 0.1 + 0.3 * u01(rng);
+    }
+    VdtEkfLocalizer ekf(test::world().map, o);
+    ekf.reset(x0, p0);
+    const LocalizationResult r = ekf.update(standing_still(), scan_points(scan));
+    EXPECT_EQ(r.status, LocalizationStatus::kConverged);
+    nees.push_back(eval::nees(r.pose, truth, r.covariance));
+  }
+  const eval::AneesResult a = eval::anees(nees, 3, 0.99);
+  std::printf(
+      "EKF with clutter inside the gate, loss %s: ANEES %.3f, 99 %% interval [%.3f, %.3f]\n",
+      loss == RobustLoss::kNone ? "none" : "cauchy", a.anees, a.interval.lower, a.interval.upper);
+  return a;
+}
+
+TEST(VdtEkfUpdate, ClutterInsideTheGateIsDiscountedByTheRobustLoss) {
+  const eval::AneesResult robust = clutter_anees(RobustLoss::kCauchy);
+  EXPECT_LE(robust.anees, 1.5 * 3.0);
+  EXPECT_GE(robust.anees, 3.0 / 1.5);
+  const eval::AneesResult plain = clutter_anees(RobustLoss::kNone);
+  EXPECT_GT(plain.anees, 5.0 * plain.interval.upper);
+}
+
 /// Iterated updates with map errors shared per square of side `length` (0: off) and a map
 /// builder's pose error `pose_sigma`; shared_map_sigma() is the sigma_c of that model.
 VdtEkfOptions shared_map_error_options(double length, double pose_sigma) {

@@ -42,6 +42,13 @@ struct VdtEkfOptions {
   /// linearised once at the prediction. Later iterations relinearise at the current iterate and
   /// re-gate, which widens the basin when the prediction is off by more than the gate allows.
   int max_iterations = 3;
+  /// Robust loss on each reading's squared disparity, as vdt-opt's (VdtOptimizerOptions::loss):
+  /// each iteration weighs reading i by the IRLS weight w_i = rho'(|d_i|^2) at the iterate, i.e.
+  /// its noise R_i / w_i (an M-estimator update). Readings of clutter inside the gate (edges of
+  /// grass and cracks beside a camera's markings) then pull neither the pose nor its covariance as
+  /// if they were the surface. kNone: every gated reading counts fully, (3.13)-(3.21).
+  RobustLoss loss = RobustLoss::kNone;
+  double loss_scale = 0.05;  ///< metres: where the robust loss departs from quadratic
   /// Poor predictions: the iterations start at the best pose of a window search around the
   /// prediction (the prior still pulls toward the prediction), and an update that leaves the
   /// scan unexplained is refused (prediction only, kRefused). See guess_search.hpp.
