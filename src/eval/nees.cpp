@@ -100,9 +100,7 @@ double nees(const Pose3& estimate, const Pose3& truth, const Matrix6d& covarianc
 
 double chi2_95(int dof) {
   VDTNAV_CHECK(dof >= 1, "chi2_95: dof must be >= 1");
-  static constexpr double kTable[] = {3.841458820694124, 5.991464547107979,  7.814727903251178,
-                                      9.487729036781154, 11.070497693516351, 12.591587243743977};
-  return dof <= 6 ? kTable[dof - 1] : chi2_quantile(0.95, dof);
+  return dof <= 6 ? kChi2P95[dof - 1] : chi2_quantile(0.95, dof);
 }
 
 AneesResult anees(const std::vector<double>& nees_values, int dof, double confidence) {
@@ -110,6 +108,8 @@ AneesResult anees(const std::vector<double>& nees_values, int dof, double confid
   VDTNAV_CHECK(confidence > 0.0 && confidence < 1.0, "anees: confidence must be in (0, 1)");
   AneesResult r;
   double sum = 0.0;
+  const double bound = chi2_95(dof);
+  std::size_t inside = 0;  // values within the per-step 95 % bound (non-finite ones are not)
   for (double v : nees_values) {
     if (!std::isfinite(v)) {
       ++r.failures;
@@ -117,11 +117,9 @@ AneesResult anees(const std::vector<double>& nees_values, int dof, double confid
     }
     sum += v;
     ++r.count;
+    inside += v <= bound ? 1 : 0;
   }
   if (!nees_values.empty()) {
-    const double bound = chi2_95(dof);
-    std::size_t inside = 0;
-    for (double v : nees_values) inside += std::isfinite(v) && v <= bound ? 1 : 0;
     r.inside_95_pct = 100.0 * static_cast<double>(inside) / static_cast<double>(nees_values.size());
   }
   if (r.count == 0) return r;

@@ -21,13 +21,14 @@
 #include <Eigen/Core>
 
 #include "vdtnav/core/pose2.hpp"
+#include "vdtnav/eval/nees.hpp"
 #include "vdtnav/eval/relation_metric.hpp"
 #include "vdtnav/eval/trajectory_metrics.hpp"
 
 namespace vdtnav::eval {
 
 /// The χ²(3) 95 % quantile: a consistent estimator's relation NEES falls below it 95 % of the time.
-inline constexpr double kChi2Dof3P95 = 7.814727903251178;
+inline constexpr double kChi2Dof3P95 = kChi2P95[2];
 
 /// \brief The relative pose δ = x_i⁻¹ ⊕ x_j and its Jacobians (1), (3).
 struct RelativePoseJacobians {
