@@ -72,6 +72,7 @@ GroundBoundaries GroundBoundaryExtractor::extract(const RgbdFrame& frame) const 
   out.plane = fit_ground_plane(frame, camera_, camera_to_robot_, options_.noise, options_.plane);
   if (!out.plane.found) return out;  // no ground in view: no boundaries to trust
   const Eigen::Isometry3d extrinsics = levelled_extrinsics(camera_to_robot_, out.plane);
+  out.tilt_covariance = levelled_tilt_covariance(extrinsics, out.plane);
 
   // Chroma edges (and lightness edges on request).
   cv::Mat blurred, lab;
@@ -141,6 +142,8 @@ GroundBoundaries GroundBoundaryExtractor::extract(const RgbdFrame& frame) const 
       p.robot = back_project(Eigen::Vector2d(u, v), z, extrinsics, &j);
       const double sz = options_.noise.sigma_z(z);
       p.covariance = j * Eigen::Vector3d(s2p, s2p, sz * sz).asDiagonal() * j.transpose();
+      const double vz = (extrinsics.linear() * p.camera).z();
+      p.tilt_jacobian << 0.0, vz, -vz, 0.0;
       out.points.push_back(p);
     }
   }
@@ -217,10 +220,14 @@ void estimate_edge_tangents(std::vector<BoundaryPoint>& points, double radius) {
 
 ScanPoints GroundBoundaryExtractor::observations(const GroundBoundaries& boundaries) const {
   ScanPoints s;
+  const bool shared = !boundaries.tilt_covariance.isZero(0.0);
+  if (shared) s.shared_covariance = boundaries.tilt_covariance;
   for (std::size_t i = 0; i < boundaries.points.size(); ++i) {
     const BoundaryPoint& p = boundaries.points[i];
     const double a = p.straightness * options_.aperture_sigma;
-    s.add_point(p.robot, p.covariance + (a * a) * p.tangent * p.tangent.transpose(), i);
+    const ScanPoints::SharedJacobian g = p.tilt_jacobian;
+    s.add_point(p.robot, p.covariance + (a * a) * p.tangent * p.tangent.transpose(), i,
+                shared ? &g : nullptr);
   }
   return s;
 }

@@ -2,16 +2,19 @@
 // pavement and grass meeting along two known lines, a box standing on the pavement — and on the
 // real Kinect frames of ../shared/data: the boundary points fall on the known boundaries, the
 // box's edges are pruned, the ground plane is recovered from wrong extrinsics, the Jacobian of
-// the back-projection matches finite differences, the per-point covariance is consistent by
-// Monte Carlo, and bad input is refused with the reason.
+// the back-projection matches finite differences, the per-point covariance and the fitted
+// plane's covariance (the tilt every point shares) are consistent by Monte Carlo, and bad input
+// is refused with the reason.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <random>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Geometry>
@@ -223,6 +226,109 @@ TEST(GroundBoundaries, PointCovarianceIsConsistentByMonteCarlo) {
   EXPECT_LT(nees, 2.1);
 }
 
+/// Mean NEES of the fitted plane's tilt (2 dof, through levelled_tilt_covariance) and offset
+/// (1 dof) over `trials` noisy copies of the bare ground's depth (the scene without its box,
+/// whose faces' lowest 2 cm would pass as ground and bias the fit by ~2 sigma), the noise
+/// `truth_factor` times the model's sigma_z (drawn at the pixels the fit samples: stride 6 from 3).
+std::pair<double, double> plane_nees(double truth_factor, int trials) {
+  const PinholeCamera camera(scene().cal);
+  const DepthNoiseModel model;
+  const GroundPlaneOptions options;
+  cv::Mat ground(scene().cal.height, scene().cal.width, CV_32F, cv::Scalar(0.0f));
+  {
+    std::vector<Eigen::Vector2d> px;
+    for (int v = 0; v < ground.rows; ++v)
+      for (int u = 0; u < ground.cols; ++u) px.emplace_back(u, v);
+    const std::vector<Eigen::Vector2d> rays = camera.undistort(px);
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+      const Eigen::Vector3d d =
+          scene().truth.linear() * Eigen::Vector3d(rays[i].x(), rays[i].y(), 1.0);
+      const double z = d.z() < 0.0 ? -scene().truth.translation().z() / d.z() : 0.0;
+      ground.at<float>(static_cast<int>(px[i].y()), static_cast<int>(px[i].x())) =
+          static_cast<float>(z < 10.0 ? z : 0.0);
+    }
+  }
+  std::mt19937 rng(11);
+  std::normal_distribution<double> n01(0.0, 1.0);
+  double tilt = 0.0, offset = 0.0;
+  for (int t = 0; t < trials; ++t) {
+    cv::Mat depth = ground.clone();
+    for (int v = options.stride / 2; v < depth.rows; v += options.stride) {
+      for (int u = options.stride / 2; u < depth.cols; u += options.stride) {
+        float& z = depth.at<float>(v, u);
+        if (z > 0.0f) z += static_cast<float>(truth_factor * model.sigma_z(z) * n01(rng));
+      }
+    }
+    const RgbdFrame frame = make_rgbd_frame(scene().frame.colour, depth, 1.0);
+    const GroundPlane plane = fit_ground_plane(frame, camera, scene().truth, model, options);
+    EXPECT_TRUE(plane.found);
+    const Eigen::Isometry3d levelled = levelled_extrinsics(scene().truth, plane);
+    // The tilt left on the levelled rotation: R_true = Exp(delta) R'.
+    const Eigen::AngleAxisd e(scene().truth.linear() * levelled.linear().transpose());
+    const Eigen::Vector2d delta = (e.angle() * e.axis()).head<2>();
+    tilt += delta.dot(levelled_tilt_covariance(levelled, plane).inverse() * delta);
+    offset += std::pow((plane.offset - scene().truth.translation().z()) / plane.offset_sigma, 2);
+  }
+  return {tilt / trials, offset / trials};
+}
+
+TEST(GroundBoundaries, ThePlanesCovarianceIsConsistentByMonteCarlo) {
+  // 300 noisy frames: the mean NEES of the tilt (chi-square, 2 dof) has the 99 % interval
+  // 2 +- 2.58 sqrt(4 / 300) = [1.70, 2.30], the offset's (1 dof) 1 +- 2.58 sqrt(2 / 300) =
+  // [0.79, 1.21]. Leaving out the ray's angle to the plane in sigma_i (|n . ray| ~ 0.3-1 here)
+  // would inflate the covariance and fail the lower ends.
+  const auto [tilt, offset] = plane_nees(1.0, 300);
+  std::printf("plane NEES: tilt %.3f, offset %.3f\n", tilt, offset);
+  EXPECT_GT(tilt, 1.70);
+  EXPECT_LT(tilt, 2.30);
+  EXPECT_GT(offset, 0.79);
+  EXPECT_LT(offset, 1.21);
+}
+
+TEST(GroundBoundaries, AGroundRougherThanTheDepthNoiseScalesThePlanesCovarianceUp) {
+  // The depth scatters twice as much as the noise model says (a rough ground, a noisier sensor):
+  // the reduced chi-square of the fit scales the covariance, the NEES stays near its dof (the
+  // inlier distance, 3 model sigmas = 1.5 true ones, trims the tails: a looser bound, 0.7-1.3x);
+  // without the scale it would be ~4x its dof.
+  const auto [tilt, offset] = plane_nees(2.0, 300);
+  std::printf("plane NEES, depth noise 2x the model's: tilt %.3f, offset %.3f\n", tilt, offset);
+  EXPECT_GT(tilt, 0.7 * 2.0);
+  EXPECT_LT(tilt, 1.3 * 2.0);
+  EXPECT_GT(offset, 0.7);
+  EXPECT_LT(offset, 1.3);
+}
+
+TEST(GroundBoundaries, EveryPointSharesThePlanesTiltAndTheObservationsCarryIt) {
+  const GroundBoundaryExtractor ex(PinholeCamera(scene().cal), scene().truth);
+  const GroundBoundaries b = ex.extract(scene().frame);
+  ASSERT_GT(b.points.size(), 20u);
+  ASSERT_GT(b.tilt_covariance.trace(), 0.0);
+  const Eigen::Isometry3d levelled = levelled_extrinsics(scene().truth, b.plane);
+  // Finite differences of the back-projection under the tilted extrinsics Exp(delta) R'.
+  for (std::size_t i = 0; i < b.points.size(); i += b.points.size() / 10) {
+    const BoundaryPoint& p = b.points[i];
+    for (int k = 0; k < 2; ++k) {
+      const double h = 1e-5;
+      Eigen::Isometry3d plus = levelled, minus = levelled;
+      plus.linear() = Eigen::AngleAxisd(h, Eigen::Vector3d::Unit(k)) * levelled.linear();
+      minus.linear() = Eigen::AngleAxisd(-h, Eigen::Vector3d::Unit(k)) * levelled.linear();
+      const Eigen::Vector2d fd =
+          (ex.back_project(p.pixel.cast<double>(), p.camera.z(), plus, nullptr) -
+           ex.back_project(p.pixel.cast<double>(), p.camera.z(), minus, nullptr)) /
+          (2.0 * h);
+      EXPECT_LT((p.tilt_jacobian.col(k) - fd).norm(), 1e-6) << "point " << i << " column " << k;
+      // On the ground: the camera's height times the tilt, the same for every point.
+      EXPECT_NEAR(fd.norm(), b.plane.offset, 0.02) << "point " << i;
+    }
+  }
+  const ScanPoints obs = ex.observations(b);
+  ASSERT_EQ(obs.num_shared(), 2);
+  EXPECT_EQ(obs.shared_covariance, Eigen::MatrixXd(b.tilt_covariance));
+  for (std::size_t i = 0; i < obs.size(); ++i) {
+    ASSERT_EQ(Eigen::Matrix2d(obs.shared_jacobians[i]), b.points[obs.beam[i]].tilt_jacobian);
+  }
+}
+
 TEST(GroundBoundaries, EdgeTangentsFollowTheKnownBoundariesAndCornersAreNotStraight) {
   const GroundBoundaryExtractor ex(PinholeCamera(scene().cal), scene().truth);
   const GroundBoundaries b = ex.extract(scene().frame);
@@ -311,6 +417,8 @@ TEST(GroundBoundaries, AStraightEdgeInAGridMapTellsNothingAlongItself) {
   b.points = points;
   const Eigen::Vector2d t = Eigen::Vector2d(1.0, slope).normalized(), n(-t.y(), t.x());
   const Eigen::Matrix3d p0 = Eigen::Vector3d(0.01, 0.01, 1e-4).asDiagonal();
+  // The filter's covariance and the one it reports (with the map term of 2 m squares, as in
+  // examples/pmd_rgbd, when correlation_length > 0).
   const auto posterior = [&](double aperture_sigma) {
     GroundBoundaryOptions o;
     o.aperture_sigma = aperture_sigma;

@@ -20,7 +20,11 @@
 /// Covariance of a point: pixel noise sigma_pixel on (u, v) and the sensor's depth noise
 /// sigma_z(z) (depth_noise.hpp), through the Jacobian of (x, y)_robot in (u, v, z):
 ///   J = R_rc[0:2, :] [ z dn/duv | (x_n, y_n, 1)^T ],  Sigma = J diag(s_px^2, s_px^2, s_z^2) J^T,
-/// with dn/duv the inverse of the lens model's d pixel / d normalized.
+/// with dn/duv the inverse of the lens model's d pixel / d normalized. The points also share the
+/// error of the fitted ground plane that levels the extrinsics: its tilt delta moves them all
+/// alike (BoundaryPoint::tilt_jacobian, GroundBoundaries::tilt_covariance from the fit's
+/// covariance, ground_plane.hpp), and observations() hands it to the estimators as the set's
+/// shared error (observation_set.hpp), as the UAV camera does with its attitude error.
 ///
 /// The aperture problem: a point of an edge says where the edge is, not where along the edge the
 /// point lies (which pixels Canny keeps is arbitrary). Each point's tangent is the principal axis
@@ -74,7 +78,12 @@ struct BoundaryPoint {
   Eigen::Vector3d camera = Eigen::Vector3d::Zero();      ///< back-projected, camera frame
   Eigen::Vector2d robot = Eigen::Vector2d::Zero();       ///< on the ground, robot frame
   Eigen::Matrix2d covariance = Eigen::Matrix2d::Zero();  ///< pixel and depth noise
-  Eigen::Vector2d tangent = Eigen::Vector2d::UnitX();    ///< edge direction, robot frame
+  /// d robot / d delta = [[0, v_z], [-v_z, 0]]: the point moves by delta x v with the levelled
+  /// extrinsics' tilt error delta (GroundBoundaries::tilt_covariance), v = R' camera the ray to
+  /// it in robot axes. On the ground v_z = -h (the camera's height), so every point of the frame
+  /// moves by the same (-h delta_y, h delta_x): an error the whole frame shares.
+  Eigen::Matrix2d tilt_jacobian = Eigen::Matrix2d::Zero();
+  Eigen::Vector2d tangent = Eigen::Vector2d::UnitX();  ///< edge direction, robot frame
   double straightness = 0.0;  ///< coherence of the neighbourhood, [0, 1] (0: too few neighbours)
 };
 
@@ -85,6 +94,9 @@ void estimate_edge_tangents(std::vector<BoundaryPoint>& points, double radius);
 /// \brief What one frame gives.
 struct GroundBoundaries {
   GroundPlane plane;
+  /// Covariance of the levelled extrinsics' tilt (levelled_tilt_covariance()): an error every
+  /// point of the frame shares, carried by observations() as the set's shared error.
+  Eigen::Matrix2d tilt_covariance = Eigen::Matrix2d::Zero();
   std::vector<BoundaryPoint> points;
   std::vector<Eigen::Vector2i> pruned_pixels;  ///< edge pixels pruned as off the ground
   int edge_pixels = 0;                         ///< edge pixels with a depth within max_range
