@@ -188,7 +188,7 @@ LocalizationResult VdtEkfLocalizer::update(const OdometryStep& odometry, const S
     p_ = 0.5 * (pn + pn.transpose());
     Eigen::Matrix3d map_term = Eigen::Matrix3d::Zero();
     if (model_.options().map_uncertainty != nullptr) {
-      map_term = map_covariance(info - prior_info, xi, pts, &disparities);
+      map_term = map_covariance(info, xi, pts, &disparities);
     } else if (squares) {
       // Map errors shared by the readings of one square of the map (VdtSensorModelOptions::
       // map_correlation_length), considered like the shared errors above: per group k,
@@ -205,14 +205,17 @@ LocalizationResult VdtEkfLocalizer::update(const OdometryStep& odometry, const S
         if (fresh) it->second.setZero();
         it->second.noalias() += bd.d_pose.transpose() * r_inv * bd.d_point;
       }
-      // A shift of the map moves everything localized on it, the filter's past included: the
-      // term is the scan's own sensitivity (its information without the prior), reported on top
-      // of the filter's covariance relative to the map, not fed back into the filter.
-      const Eigen::Matrix3d scan_info = info - prior_info;
-      const Eigen::LDLT<Eigen::Matrix3d> scan_ldlt(scan_info);
+      // The term is the update's sensitivity to the squares in view, S_k = info^-1 c_k with the
+      // update's information (the prior's included), reported on top of the filter's covariance
+      // relative to the map, not fed back into the filter. (The scan's information alone, the
+      // term until issue 35, meant a past localized on the same squares; where a frame observes a
+      // direction barely (boundaries along the track), its inverse made S_k explode: on the PMD
+      // study 90 of 1655 frames reported 2 sigma over 1 m, up to 4e8 m, and a bearing fused
+      // against that moved the estimate 3 m.)
+      const Eigen::LDLT<Eigen::Matrix3d> info_ldlt(info);
       const double s2 = model_.map_sigma_correlated() * model_.map_sigma_correlated();
       for (const auto& [key, c] : groups) {
-        const Eigen::Matrix<double, 3, 2> sens = scan_ldlt.solve(c);
+        const Eigen::Matrix<double, 3, 2> sens = info_ldlt.solve(c);
         map_term.noalias() += s2 * sens * sens.transpose();
       }
     }

@@ -14,15 +14,16 @@
 
 namespace vdtnav {
 
-Eigen::Matrix3d VdtEkfLocalizer::map_covariance(const Eigen::Matrix3d& scan_info, const Pose2& xi,
+Eigen::Matrix3d VdtEkfLocalizer::map_covariance(const Eigen::Matrix3d& info, const Pose2& xi,
                                                 const ScanPoints& pts,
                                                 std::vector<BeamDisparity>* disparities) const {
-  // As for the squares in update() (vdt_ekf.cpp), the term is the scan's own sensitivity to the
+  // As for the squares in update() (vdt_ekf.cpp), the term is the update's sensitivity to the
   // map, reported on top of the filter's covariance: reading i's sensitivity to an error e_i of
-  // DT_v at its endpoint is S_i = scan_info^-1 H_i^T R_i^-1, and the map knows cov(sum_i S_i e_i)
-  // with every correlation between its endpoints (MapUncertainty::propagate). Endpoints it does not
-  // know fall back on the squares of map_correlation_length (a common shift, S_i d_point_i).
-  const Eigen::LDLT<Eigen::Matrix3d> scan_ldlt(scan_info);
+  // DT_v at its endpoint is S_i = info^-1 H_i^T R_i^-1 (info: the update's, the prior's
+  // included), and the map knows cov(sum_i S_i e_i) with every correlation between its endpoints
+  // (MapUncertainty::propagate). Endpoints it does not know fall back on the squares of
+  // map_correlation_length (a common shift, S_i d_point_i).
+  const Eigen::LDLT<Eigen::Matrix3d> info_ldlt(info);
   const Eigen::Rotation2Dd rot(xi[2]);
   model_.disparities(PoseTraits<2>::rotation(xi), xi.head<2>(), pts, nullptr, disparities);
   const bool point_cov = !pts.point_covariances.empty();
@@ -38,7 +39,7 @@ Eigen::Matrix3d VdtEkfLocalizer::map_covariance(const Eigen::Matrix3d& scan_info
     inliers.push_back(i);
     world.push_back(rot * pts.points[i] + xi.head<2>());
     const double w = detail::robust_weight(options_.loss, options_.loss_scale, bd.d.squaredNorm());
-    sens.push_back(scan_ldlt.solve(w * bd.d_pose.transpose() * r.inverse()));
+    sens.push_back(info_ldlt.solve(w * bd.d_pose.transpose() * r.inverse()));
   }
   std::vector<char> known;
   Eigen::Matrix3d term = model_.options().map_uncertainty->propagate(world, sens, &known);

@@ -14,7 +14,7 @@
 /// point of a set (a camera's attitude) are considered, not estimated (a Schmidt update): P+ gains
 /// S cov(theta) S^T, S = P+ sum_i H_i^T R_i^-1 d_point_i G_i (see vdt_ekf.cpp). Map errors shared
 /// per square of the map (VdtSensorModelOptions::map_correlation_length) are reported on top of
-/// the filter's covariance as the scan's own sensitivity to them (reported_covariance()), or, with
+/// the filter's covariance as the update's sensitivity to them (reported_covariance()), or, with
 /// VdtEkfOptions::schmidt_map_errors, carried from scan to scan in a Schmidt-Kalman filter.
 
 #include <cstdint>
@@ -62,10 +62,10 @@ struct VdtEkfOptions {
   bool optimizer_start = false;
   VdtOptimizerOptions start;
   /// How map errors shared per square (sensor.map_correlation_length > 0) enter the filter.
-  /// false: the scan's own sensitivity to them, M = sum_k S_k sigma_c^2 S_k^T with S_k from the
-  /// scan's information alone, is reported on top of the filter's covariance and not fed back
-  /// (the steady state of a filter that keeps seeing the same map errors: conservative when the
-  /// squares' errors are in truth correlated along whole walls). true: a Schmidt-Kalman filter
+  /// false: the update's sensitivity to them, M = sum_k S_k sigma_c^2 S_k^T with S_k from the
+  /// update's information (the prior's included: the scan's alone explodes in a direction the
+  /// frame barely observes), is reported on top of the filter's covariance and not fed back.
+  /// true: a Schmidt-Kalman filter
   /// that keeps cov(X, e_k) for every square k it has seen and solves each update jointly for the
   /// pose and the errors of the squares in view (the errors stay unestimated): P is the error
   /// against the world, a square seen again adds no information beyond what its error allows, and
@@ -122,7 +122,7 @@ class VdtEkfLocalizer final : public Localizer2D {
   std::unordered_map<std::int64_t, Eigen::Matrix<double, 3, 2>> cross_;
   void prune_cross();
   /// The map term M of a scan at xi with the map's own covariance (sensor.map_uncertainty).
-  [[nodiscard]] Eigen::Matrix3d map_covariance(const Eigen::Matrix3d& scan_info, const Pose2& xi,
+  [[nodiscard]] Eigen::Matrix3d map_covariance(const Eigen::Matrix3d& info, const Pose2& xi,
                                                const ScanPoints& pts,
                                                std::vector<BeamDisparity>* disparities) const;
   std::string name_;

@@ -419,7 +419,7 @@ TEST(GroundBoundaries, AStraightEdgeInAGridMapTellsNothingAlongItself) {
   const Eigen::Matrix3d p0 = Eigen::Vector3d(0.01, 0.01, 1e-4).asDiagonal();
   // The filter's covariance and the one it reports (with the map term of 2 m squares, as in
   // examples/pmd_rgbd, when correlation_length > 0).
-  const auto posterior = [&](double aperture_sigma) {
+  const auto posterior = [&](double aperture_sigma, double correlation_length) {
     GroundBoundaryOptions o;
     o.aperture_sigma = aperture_sigma;
     const GroundBoundaryExtractor ex(PinholeCamera(scene().cal), scene().truth, o);
@@ -428,12 +428,14 @@ TEST(GroundBoundaries, AStraightEdgeInAGridMapTellsNothingAlongItself) {
     eo.search.enabled = false;
     eo.sensor.gate = 5.0 * res;
     eo.sensor.map_sigma = 0.5 * res;
+    eo.sensor.map_correlation_length = correlation_length;
+    eo.sensor.map_pose_sigma = 0.0;
     VdtEkfLocalizer ekf(map, eo);
     ekf.reset(pose, p0);
     (void)ekf.update(OdometryStep{}, ex.observations(b));
-    return ekf.covariance();
+    return std::pair{ekf.covariance(), ekf.reported_covariance()};
   };
-  const Eigen::Matrix3d with = posterior(10.0), without = posterior(0.0);
+  const Eigen::Matrix3d with = posterior(10.0, 0.0).first, without = posterior(0.0, 0.0).first;
   const auto sd = [](const Eigen::Matrix3d& p, const Eigen::Vector2d& u) {
     return std::sqrt(u.dot(p.topLeftCorner<2, 2>() * u));
   };
@@ -441,6 +443,14 @@ TEST(GroundBoundaries, AStraightEdgeInAGridMapTellsNothingAlongItself) {
   EXPECT_LT(sd(without, t), 0.05);    // the collapse this guards against
   // Across, the line is still found: to within the staircase's half cell, not the prior's 10 cm.
   EXPECT_LT(sd(with, n), 0.5 * res);
+  // The map's squares: the frame barely observes the along-track direction, so their errors
+  // cannot move the estimate along it by more than the prior allows (the reported covariance
+  // stays within the prior's 10 cm and a square's 2.5 cm; on the frames of a real drive, where it
+  // once exploded, test_park_drive_covariance).
+  const auto [filter, reported] = posterior(10.0, 2.0);
+  EXPECT_LT(sd(reported, t), std::hypot(0.1, 0.5 * res));
+  EXPECT_GE(sd(reported, t), sd(filter, t));
+  EXPECT_LT(sd(reported, n), 0.5 * res);
 }
 
 TEST(GroundBoundaries, BadInputIsRefusedWithTheReason) {
