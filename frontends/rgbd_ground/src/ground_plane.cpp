@@ -167,21 +167,20 @@ GroundPlane fit_ground_plane(const RgbdFrame& frame, const camera::PinholeCamera
   const Eigen::Vector3d e1 = n.unitOrthogonal(), e2 = n.cross(e1);
   Eigen::Matrix3d information = Eigen::Matrix3d::Zero();
   double s2 = 0.0, chi2 = 0.0;
+  bool noisy = true;  // false: a noiseless model, no covariance to claim
   for (int i : in) {
     const Eigen::Vector3d& p = pts[static_cast<std::size_t>(i)];
     const double r = n.dot(p) + d;
+    s2 += r * r;
     const double sigma = sigma_along(n, p);
-    if (!(sigma > 0.0)) {  // a noiseless model: no covariance to claim
-      information.setZero();
-      break;
-    }
+    noisy = noisy && sigma > 0.0;
+    if (!noisy) continue;
     const Eigen::Vector3d j(e1.dot(p), e2.dot(p), 1.0);
     information.noalias() += j * j.transpose() / (sigma * sigma);
-    s2 += r * r;
     chi2 += r * r / (sigma * sigma);
   }
   best.rms = in.empty() ? 0.0 : std::sqrt(s2 / static_cast<double>(in.size()));
-  if (in.size() > 3 && information.determinant() > 0.0) {
+  if (noisy && in.size() > 3 && information.determinant() > 0.0) {
     const double scale = std::max(1.0, chi2 / static_cast<double>(in.size() - 3));
     const Eigen::Matrix3d cov = scale * information.inverse();
     Eigen::Matrix<double, 3, 2> basis;

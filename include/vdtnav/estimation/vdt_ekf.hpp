@@ -65,9 +65,9 @@ struct VdtEkfOptions {
   /// false: the update's sensitivity to them, M = sum_k S_k sigma_c^2 S_k^T with S_k from the
   /// update's information (the prior's included: the scan's alone explodes in a direction the
   /// frame barely observes), is reported on top of the filter's covariance and not fed back.
-  /// true: a Schmidt-Kalman filter
-  /// that keeps cov(X, e_k) for every square k it has seen and solves each update jointly for the
-  /// pose and the errors of the squares in view (the errors stay unestimated): P is the error
+  /// true: a Schmidt-Kalman filter that keeps cov(X, e_k) for every square k it has seen and
+  /// solves each update jointly for the pose and the errors of the squares in view (the errors
+  /// stay unestimated): P is the error
   /// against the world, a square seen again adds no information beyond what its error allows, and
   /// observations of the world (bearings to landmarks) correct the pose without being pulled back
   /// by the next scan. Exact when the squares' errors are independent; over-confident when they

@@ -51,12 +51,12 @@ struct GroundPlaneOptions {
 ///
 /// The refinement is the maximum-likelihood plane of the inliers: total least squares weighted
 /// by each inlier's depth noise along the normal, sigma_i below. The covariance of the fit is the
-/// Gauss-Newton one of that plane: with the normal moved
-/// to n + a e1 + b e2 (e1, e2 perpendicular to n) and the offset to d + c, inlier i's residual is
-/// r_i = n . p_i + d, dr_i/d(a, b, c) = j_i = (e1 . p_i, e2 . p_i, 1), and its noise is the depth
-/// noise along the ray, sigma_i = |n . (x_n, y_n, 1)| sigma_z(z_i). Then
-///   cov(a, b, c) = s^2 (sum_i j_i j_i^T / sigma_i^2)^-1,  s^2 = max(1, sum_i r_i^2/sigma_i^2 / (N
-///   - 3)),
+/// Gauss-Newton one of that plane: with the normal moved to n + a e1 + b e2 (e1, e2
+/// perpendicular to n) and the offset to d + c, inlier i's residual is r_i = n . p_i + d,
+/// dr_i/d(a, b, c) = j_i = (e1 . p_i, e2 . p_i, 1), and its noise is the depth noise along the
+/// ray, sigma_i = |n . (x_n, y_n, 1)| sigma_z(z_i). Then
+///   cov(a, b, c) = s^2 (sum_i j_i j_i^T / sigma_i^2)^-1,
+///   s^2 = max(1, sum_i r_i^2 / sigma_i^2 / (N - 3)),
 /// the reduced chi-square scaling it up where the ground is rougher than the depth noise (grass,
 /// a real floor's unevenness). Neighbouring pixels' depth errors are taken as independent (the
 /// samples are stride pixels apart).
