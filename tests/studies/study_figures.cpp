@@ -3,6 +3,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -151,7 +152,8 @@ std::vector<FigureCheck> check_study_figures(const std::string& expected_yaml,
         const std::string& text = match->at(c.column);
         char* end = nullptr;
         c.measured = std::strtod(text.c_str(), &end);
-        if (end == text.c_str()) {
+        c.read = end != text.c_str();
+        if (!c.read) {
           c.message = "'" + text + "' is not a number";
         } else if (e["value"] && !(std::abs(c.measured - value) <= tolerance)) {
           char m[160];
@@ -172,6 +174,40 @@ std::vector<FigureCheck> check_study_figures(const std::string& expected_yaml,
     out.push_back(c);
   }
   return out;
+}
+
+std::string seeds_table(const std::string& expected_yaml, const std::vector<std::string>& out_dirs,
+                        const std::vector<std::string>& labels, const std::string& data_dir) {
+  std::vector<std::vector<FigureCheck>> runs;
+  for (const std::string& d : out_dirs)
+    runs.push_back(check_study_figures(expected_yaml, d, data_dir));
+  std::ostringstream md;
+  md << "| study | row | figure | target |";
+  for (std::size_t r = 0; r < runs.size(); ++r)
+    md << ' ' << (r < labels.size() ? labels[r] : out_dirs[r]) << " |";
+  md << " meets the target |\n|---|---|---|---|";
+  for (std::size_t r = 0; r < runs.size(); ++r) md << "---|";
+  md << "---|\n";
+  const std::size_t figures = runs.empty() ? 0 : runs.front().size();
+  for (std::size_t f = 0; f < figures; ++f) {
+    const FigureCheck& first = runs.front()[f];
+    int read = 0, met = 0;
+    for (const auto& run : runs) {
+      read += run[f].read;
+      met += run[f].read && run[f].within_target;
+    }
+    if (first.target.empty() || read == 0) continue;
+    const std::string study = first.file.substr(0, first.file.find('/'));
+    md << "| " << study << " | " << first.row << " | " << first.column << " | " << first.target
+       << " |";
+    for (const auto& run : runs) {
+      char v[32] = "—";
+      if (run[f].read) std::snprintf(v, sizeof v, "%.4g", run[f].measured);
+      md << ' ' << v << " |";
+    }
+    md << ' ' << met << '/' << read << " |\n";
+  }
+  return md.str();
 }
 
 }  // namespace vdtnav::studies

@@ -22,6 +22,7 @@ struct FigureCheck {
   double measured = 0.0;
   bool passed = false, skipped = false;
   bool within_target = true;  ///< the measured figure meets `target` (true without one)
+  bool read = false;          ///< `measured` was read from its table (in range or not)
   std::string message;        ///< what failed (or why skipped)
 };
 
@@ -31,5 +32,15 @@ struct FigureCheck {
 [[nodiscard]] std::vector<FigureCheck> check_study_figures(const std::string& expected_yaml,
                                                            const std::string& out_dir,
                                                            const std::string& data_dir);
+
+/// \brief The same figures over several runs of the studies (one output folder per seed), as a
+/// Markdown table: one row per figure that has a `target` and was read in at least one folder,
+/// its value in each folder ("—" where not read) and how many runs meet the target ("4/5").
+/// Issue 35: a target met on one seed only is not met.
+/// \throws vdtnav::FormatError for a malformed expectations file.
+[[nodiscard]] std::string seeds_table(const std::string& expected_yaml,
+                                      const std::vector<std::string>& out_dirs,
+                                      const std::vector<std::string>& labels,
+                                      const std::string& data_dir);
 
 }  // namespace vdtnav::studies

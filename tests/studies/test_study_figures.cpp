@@ -151,6 +151,44 @@ TEST(StudyFigures, ACeilingBeyondItsTargetNeedsAReasonAndSaysWhenItIsUsed) {
   EXPECT_EQ(c[2].message, "40 is not in [-inf, 30]");
 }
 
+TEST(StudyFigures, TheSeedsTableCountsTheRunsThatMeetEachTargetWhateverTheRecordedRange) {
+  // Three runs: a figure inside its interval on two of them (one of which is off its recorded
+  // value, so the check fails it, and the table still counts it as meeting the target), one
+  // run without the study; a figure without a target is not listed.
+  const fs::path d = dir();
+  for (const char* s : {"seed_1", "seed_2", "seed_3"}) fs::create_directories(d / s / "uav_camera");
+  write(d / "seed_1/uav_camera/table.csv", "method,anees,rmse_m\nvdt-opt,3.0,0.08\n");
+  write(d / "seed_2/uav_camera/table.csv", "method,anees,rmse_m\nvdt-opt,2.9,0.12\n");
+  write(d / "seed_3/uav_camera/table.csv", "method,anees,rmse_m\nvdt-opt,33.5,0.37\n");
+  fs::create_directories(d / "seed_4");
+  write(d / "seeds.yaml", R"(
+- file: uav_camera/table.csv
+  row: {method: vdt-opt}
+  column: anees
+  value: 3.0
+  tolerance: 0.05
+  target: "in [2.83, 3.16]"
+- file: uav_camera/table.csv
+  row: {method: vdt-opt}
+  column: rmse_m
+  value: 0.08
+  tolerance: 0.01
+)");
+  const std::string md = seeds_table((d / "seeds.yaml").string(),
+                                     {(d / "seed_1").string(), (d / "seed_2").string(),
+                                      (d / "seed_3").string(), (d / "seed_4").string()},
+                                     {"seed 1", "seed 2", "seed 3", "seed 4"}, d.string());
+  EXPECT_NE(md.find("| study | row | figure | target | seed 1 | seed 2 | seed 3 | seed 4 |"),
+            std::string::npos)
+      << md;
+  EXPECT_NE(
+      md.find(
+          "| uav_camera | method=vdt-opt | anees | in [2.83, 3.16] | 3 | 2.9 | 33.5 | — | 2/3 |"),
+      std::string::npos)
+      << md;
+  EXPECT_EQ(md.find("rmse_m"), std::string::npos) << md;
+}
+
 TEST(StudyFigures, TheCheckedInExpectationsParse) {
   // Every entry well formed and every recorded value inside its target or with a reason; the
   // figures themselves are checked by scripts/test.sh after the main job.
