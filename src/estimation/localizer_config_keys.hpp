@@ -174,6 +174,9 @@ void visit(V& v, VdtEkfOptions& o) {
   v.flag("schmidt_map_errors", o.schmidt_map_errors,
          "carry map errors shared per square from scan to scan (Schmidt-Kalman) instead of "
          "reporting the scan's map term on top");
+  v.number("correction_gate", o.correction_gate, "chi2",
+           "refuse an update whose correction is larger, as a Mahalanobis size under the prior, "
+           "than this chi-square(3) value (11.34: its 99 % point); 0: off");
 }
 
 template <typename V>

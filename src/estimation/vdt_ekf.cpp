@@ -167,6 +167,11 @@ LocalizationResult VdtEkfLocalizer::update(const OdometryStep& odometry, const S
     result.status = LocalizationStatus::kTooFewObservations;  // prediction only
   } else if (so.enabled && explained < so.accept_fraction) {
     result.status = LocalizationStatus::kRefused;  // the map does not explain the scan
+  } else if (options_.correction_gate > 0.0 && [&] {
+               const Eigen::Vector3d dx = pose_error(xi, x_);
+               return dx.dot((p_ + map_term_).ldlt().solve(dx)) > options_.correction_gate;
+             }()) {
+    result.status = LocalizationStatus::kRefused;  // a jump the prior calls implausible
   } else if (joint) {
     x_ = xi;
     for (auto& [key, ch] : cross_) ch = schmidt.out_of_view * ch;

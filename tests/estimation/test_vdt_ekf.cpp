@@ -171,6 +171,70 @@ TEST(VdtEkfUpdate, ConvergedIteratedUpdateIsNotOverConfident) {
   EXPECT_GE(a.anees, 0.75 * 3.0);
 }
 
+/// The consistency test on the correction (VdtEkfOptions::correction_gate, chi-square(3) 99 %
+/// point 11.34). A calibrated prior: the correction X+ - X_pred has covariance P - P+ <= P, so
+/// its Mahalanobis size under P exceeds the 99 % point in at most ~1 % of 400 draws (binomial:
+/// <= 12 with 99.9 %; a statistic under P+ instead of P would refuse nearly every update). A
+/// prior that claims 2-3 mm while it is 3.6 cm off: the scan's pull is a > 10 sigma jump, refused
+/// (the prediction kept, P unchanged), and accepted without the gate; then each refused update
+/// lets the prediction's noise grow P until the same correction is plausible and passes.
+TEST(VdtEkfUpdate, ACorrectionThePriorCallsImplausibleIsRefusedUntilThePriorGrows) {
+  VdtEkfOptions o = classic_ekf_options();
+  o.max_iterations = 5;
+  o.correction_gate = 11.34;
+  const Pose2 truth = test::tour_pose(7);
+  Eigen::Matrix3d p0;
+  p0 << 4e-4, 1e-4, 0.0, 1e-4, 9e-4, 2e-5, 0.0, 2e-5, 2.5e-4;
+  p0 *= 0.01;
+  const Eigen::Matrix3d l0 = p0.llt().matrixL();
+  std::mt19937 rng(91);
+  std::normal_distribution<double> n01(0.0, 1.0);
+  int refused = 0;
+  for (int k = 0; k < 400; ++k) {
+    const Eigen::Vector3d dx = l0 * Eigen::Vector3d(n01(rng), n01(rng), n01(rng));
+    VdtEkfLocalizer ekf(test::world().map, o);
+    ekf.reset(Pose2(truth[0] + dx[0], truth[1] + dx[1], wrap_angle(truth[2] + dx[2])), p0);
+    const LocalizationResult r =
+        ekf.update(standing_still(), test::simulate_scan(truth, 0.02, rng, 361));
+    refused += r.status == LocalizationStatus::kRefused;
+  }
+  std::printf("calibrated prior: %d of 400 corrections refused at the 99 %% point\n", refused);
+  EXPECT_LE(refused, 12);
+
+  const Pose2 x0 = truth + Pose2(0.03, -0.02, 0.0);
+  const LaserScan scan = test::simulate_scan(truth, 0.02, rng, 361);
+  VdtEkfOptions off = o;
+  off.correction_gate = 0.0;
+  VdtEkfLocalizer ungated(test::world().map, off);
+  ungated.reset(x0, p0);
+  const LocalizationResult moved = ungated.update(standing_still(), scan);
+  ASSERT_EQ(moved.status, LocalizationStatus::kConverged);
+  EXPECT_GT(pose_error(moved.pose, x0).head<2>().norm(), 0.01);
+
+  VdtEkfLocalizer ekf(test::world().map, o);
+  ekf.reset(x0, p0);
+  const LocalizationResult first = ekf.update(standing_still(), scan);
+  EXPECT_EQ(first.status, LocalizationStatus::kRefused);
+  EXPECT_LT(pose_error(first.pose, x0).norm(), 1e-12);
+  EXPECT_LT((first.covariance - p0).norm(), 1e-12 * p0.norm());
+  // Standing still for 0.05 s per scan: the velocity model's noise floor adds 0.05 s x (0.02 m/s)^2
+  // of variance (4.5 mm) per step; the jump passes once P allows it, and the estimate then reaches
+  // the truth.
+  OdometryStep wait;
+  wait.dt = 0.05;
+  int updates = 1;
+  LocalizationResult r = first;
+  while (r.status == LocalizationStatus::kRefused && updates < 30) {
+    r = ekf.update(wait, scan);
+    ++updates;
+  }
+  std::printf("accepted at update %d\n", updates);
+  EXPECT_EQ(r.status, LocalizationStatus::kConverged);
+  EXPECT_GT(updates, 2);
+  EXPECT_LT(updates, 30);
+  EXPECT_LT(pose_error(r.pose, truth).head<2>().norm(), 0.01);
+}
+
 /// Clutter inside the gate (what a camera's grass and cracks, or people in front of a wall, give
 /// a scan): a quarter of the beams, chosen at random, end 0.1-0.4 m short of the wall, inside the
 /// default 0.5 m gate. Monte Carlo over 300 scans from priors drawn around the truth, the iterated

@@ -74,6 +74,13 @@ struct VdtEkfOptions {
   /// are not (measured in the README: PMD and Intel studies). Not with sensor.map_uncertainty
   /// (a map that knows its own covariance), whose term M is reported as in the default.
   bool schmidt_map_errors = false;
+  /// Consistency test on the correction: an update whose correction dX = X+ - X_pred is, under
+  /// the prior's covariance (P + the last map term), a larger Mahalanobis size dX^T (P + M)^-1 dX
+  /// than this chi-square(3) value is refused (prediction only, kRefused): a registration to the
+  /// wrong stretch of a repeating or straight structure moves the estimate several sigma in one
+  /// update while it shrinks the covariance. The prior grows with each refused update, so a
+  /// correct but surprising correction passes after a few. 0: off.
+  double correction_gate = 0.0;
 };
 
 /// \brief Closes an information-form update: P+ = info^-1, X+ = X + P+ b, where
