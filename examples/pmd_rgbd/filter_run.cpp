@@ -25,7 +25,7 @@ using namespace vdtnav::rgbd_ground;
 using Clock = std::chrono::steady_clock;
 
 FilterRun run_filters(const Scenario& sc, double correlation_length, bool schmidt,
-                      std::uint64_t seed, bool verbose) {
+                      double correction_gate, std::uint64_t seed, bool verbose) {
   const ParkScene& scene = sc.scene;
   const double resolution = sc.resolution;
   const VdtMap2& map = sc.map;
@@ -58,6 +58,10 @@ FilterRun run_filters(const Scenario& sc, double correlation_length, bool schmid
   eo.schmidt_map_errors = schmidt;
   eo.sensor.map_pose_sigma = 0.0;
   eo.min_inliers = 20;
+  // A frame registered to the wrong stretch of a boundary jumps along it by tens of centimetres
+  // while its covariance shrinks (issue 35): such a correction, implausible under the prior, is
+  // refused (VdtEkfOptions::correction_gate, --correction-gate).
+  eo.correction_gate = correction_gate;
   VdtEkfLocalizer vdt(map, eo, "vdt-ekf");
   VdtEkfLocalizer fused(map, eo, "vdt-ekf+bearings");
   // The start: within 10 cm and 0.02 rad, as a GNSS fix and a compass would give it.
@@ -66,10 +70,10 @@ FilterRun run_filters(const Scenario& sc, double correlation_length, bool schmid
   // The landmark-only filter and dead reckoning need no map: the same prediction on (x, P).
   Pose2 landmark_x = drive.truth[0], dead = drive.truth[0];
   Eigen::Matrix3d landmark_p = p0, dead_p = p0;
-  std::vector<Trace> traces{{"vdt-ekf", {}, {}, 0.0, true, {}},
-                            {"vdt-ekf+bearings", {}, {}, 0.0, true, {}},
-                            {"bearings", {}, {}, 0.0, false, {}},
-                            {"odometry", {}, {}, 0.0, false, {}}};
+  std::vector<Trace> traces{{"vdt-ekf", {}, {}, 0.0, true, {}, 0},
+                            {"vdt-ekf+bearings", {}, {}, 0.0, true, {}, 0},
+                            {"bearings", {}, {}, 0.0, false, {}, 0},
+                            {"odometry", {}, {}, 0.0, false, {}, 0}};
 
   // ------------------------------------------------------------------ the run
   std::mt19937 rng(static_cast<std::uint32_t>(seed * 7919 + 17));
@@ -105,11 +109,12 @@ FilterRun run_filters(const Scenario& sc, double correlation_length, bool schmid
     };
     timed(traces[0], [&] {
       const LocalizationResult r = vdt.update(step, obs);
+      traces[0].refused += r.status == LocalizationStatus::kRefused;
       traces[0].estimate.push_back(r.pose);
       traces[0].covariance.push_back(r.covariance);
     });
     timed(traces[1], [&] {
-      (void)fused.update(step, obs);
+      traces[1].refused += fused.update(step, obs).status == LocalizationStatus::kRefused;
       (void)fused.update_bearings(z, landmarks, bearing_options);
       traces[1].estimate.push_back(fused.pose());
       traces[1].covariance.push_back(fused.reported_covariance());
@@ -143,6 +148,12 @@ FilterRun run_filters(const Scenario& sc, double correlation_length, bool schmid
     }
   }
   front_ms /= static_cast<double>(n);
+  for (const Trace& t : traces)
+    if (t.uses_frames)
+      std::printf(
+          "  %s: %d of %zu frames' boundary updates refused (map does not explain the "
+          "frame, or the correction gate)\n",
+          t.name.c_str(), t.refused, n);
   return FilterRun{std::move(traces), front_ms, landmarks, shown, shown_colour, shown_boundaries};
 }
 

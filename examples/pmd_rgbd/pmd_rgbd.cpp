@@ -10,7 +10,7 @@
 //   odometry           dead reckoning.
 //
 //   vdtnav_pmd_rgbd [--out DIR] [--seed N] [--frames N] [--verbose]
-//                   [--map-correlation-length M] [--schmidt-map-errors]
+//                   [--map-correlation-length M] [--schmidt-map-errors] [--correction-gate G]
 //   vdtnav_pmd_rgbd --kinect FRAMES_DIR [--calibration FILE] [--out DIR]
 //
 // Writes DIR/table.csv (method,frames,pos_rmse_m,yaw_rmse_rad,anees,anees_lo,anees_hi,
@@ -41,6 +41,7 @@ int main(int argc, char** argv) {
   bool verbose = false;
   double correlation_length = 2.0;
   bool schmidt = false;
+  double correction_gate = 11.34;  // chi-square(3)'s 99 % point
   std::string kinect, calibration;
   app.add_option("--out", out, "output folder")->capture_default_str();
   app.add_option("--seed", seed, "seed of the park, the drive and all noise")
@@ -54,6 +55,10 @@ int main(int argc, char** argv) {
   app.add_flag("--schmidt-map-errors", schmidt,
                "carry the squares' map errors from frame to frame (VdtEkfOptions::"
                "schmidt_map_errors) instead of reporting each frame's map term on top");
+  app.add_option("--correction-gate", correction_gate,
+                 "refuse a frame's correction larger than this chi-square(3) value under the "
+                 "prior (VdtEkfOptions::correction_gate; 0: off)")
+      ->capture_default_str();
   app.add_option("--kinect", kinect,
                  "instead: relative localization between the recorded RGB-D frames of this folder")
       ->check(CLI::ExistingDirectory);
@@ -67,7 +72,7 @@ int main(int argc, char** argv) {
     std::filesystem::create_directories(out);
     const pmd_study::Scenario sc = pmd_study::make_scenario(seed, frames);
     const pmd_study::FilterRun run =
-        pmd_study::run_filters(sc, correlation_length, schmidt, seed, verbose);
+        pmd_study::run_filters(sc, correlation_length, schmidt, correction_gate, seed, verbose);
     pmd_study::write_tables(out, sc, run);
     pmd_study::draw_figures(out, sc, run);
     std::printf("[done] %s/table.csv, table.md, errors.png, trajectories.png, frame.png\n",

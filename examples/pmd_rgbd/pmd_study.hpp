@@ -29,6 +29,7 @@ struct Trace {
   double ms = 0.0;  // filter time over all frames (front end excluded)
   bool uses_frames = false;
   std::vector<double> frame_ms;  // each frame's time, the front end's included when it uses it
+  int refused = 0;  // frames whose boundary update the filter refused (prediction only)
 };
 
 /// The generated park, its boundary map and the scooter's drive through it.
@@ -56,9 +57,10 @@ struct FilterRun {
 };
 
 /// Renders every frame of the drive, extracts its ground boundaries and landmark bearings and
-/// runs the four filters side by side (`correlation_length`, `schmidt`: the map errors' model).
+/// runs the four filters side by side (`correlation_length`, `schmidt`: the map errors' model;
+/// `correction_gate`: VdtEkfOptions::correction_gate of both VDT filters).
 FilterRun run_filters(const Scenario& sc, double correlation_length, bool schmidt,
-                      std::uint64_t seed, bool verbose);
+                      double correction_gate, std::uint64_t seed, bool verbose);
 
 /// Writes out/table.csv and out/table.md and prints the table.
 void write_tables(const std::string& out, const Scenario& sc, const FilterRun& run);
