@@ -54,8 +54,11 @@ Metrics evaluate(const Trace& t, const sim::SimulatedRun& run) {
   m.pos_mae = mean(pe), m.pos_mae_std = stdev(pe), m.ori_mae = mean(oe), m.ori_mae_std = stdev(oe);
   m.pos_mse = mean(pe2), m.pos_mse_std = stdev(pe2), m.ori_mse = mean(oe2),
   m.ori_mse_std = stdev(oe2);
-  m.has_cov = nees.size() == pe.size();
-  if (m.has_cov && !nees.empty()) {
+  // A scan without a covariance (the estimator said it has none) has no NEES: the ANEES is over
+  // the scans that reported one, and the others are counted.
+  m.has_cov = !nees.empty();
+  m.without_cov = static_cast<int>(pe.size() - nees.size());
+  if (m.has_cov) {
     m.anees = mean(nees);
     const eval::ChiSquareInterval bounds = eval::anees_interval(nees.size(), 3, 0.95);
     m.anees_lo = bounds.lower;
@@ -79,10 +82,23 @@ Metrics combine(const std::vector<Metrics>& r) {
   m.ori_mae = mean(col(&Metrics::ori_mae)), m.ori_mae_std = stdev(col(&Metrics::ori_mae));
   m.pos_mse = mean(col(&Metrics::pos_mse)), m.pos_mse_std = stdev(col(&Metrics::pos_mse));
   m.ori_mse = mean(col(&Metrics::ori_mse)), m.ori_mse_std = stdev(col(&Metrics::ori_mse));
-  m.has_cov = r[0].has_cov;
-  m.anees = mean(col(&Metrics::anees)), m.anees_lo = mean(col(&Metrics::anees_lo));
-  m.anees_hi = mean(col(&Metrics::anees_hi)), m.lost_pct = mean(col(&Metrics::lost_pct));
-  m.nees_inside_95_pct = mean(col(&Metrics::nees_inside_95_pct));
+  std::vector<Metrics> with_cov;
+  for (const auto& x : r) {
+    m.without_cov += x.without_cov;
+    if (x.has_cov) with_cov.push_back(x);
+  }
+  m.has_cov = !with_cov.empty();
+  auto cov_col = [&](double Metrics::*f) {
+    std::vector<double> v;
+    for (const auto& x : with_cov) v.push_back(x.*f);
+    return v;
+  };
+  if (m.has_cov) {
+    m.anees = mean(cov_col(&Metrics::anees)), m.anees_lo = mean(cov_col(&Metrics::anees_lo));
+    m.anees_hi = mean(cov_col(&Metrics::anees_hi));
+    m.nees_inside_95_pct = mean(cov_col(&Metrics::nees_inside_95_pct));
+  }
+  m.lost_pct = mean(col(&Metrics::lost_pct));
   std::vector<double> ms;
   for (const auto& x : r) ms.insert(ms.end(), x.ms.begin(), x.ms.end());
   set_times(m, std::move(ms));

@@ -33,8 +33,9 @@ void write_tables(const std::string& out, const std::vector<std::string>& method
         "%s,%.6f,%.6f,%.6f,%.6f,%.8f,%.8f,%.8f,%.8f,%d,%.4f,%.4f,%.4f,%.3f,%.4f,%.4f,%.4f,"
         "%.4f,%.1f\n",
         methods[m].c_str(), x.pos_mae, x.pos_mae_std, x.ori_mae, x.ori_mae_std, x.pos_mse,
-        x.pos_mse_std, x.ori_mse, x.ori_mse_std, x.has_cov ? 1 : 0, x.anees, x.anees_lo, x.anees_hi,
-        x.lost_pct, x.ms_stats.mean, x.ms_stats.max, x.ms_stats.median, x.ms_stats.p99,
+        x.pos_mse_std, x.ori_mse, x.ori_mse_std, x.has_cov ? 1 : 0,
+        x.has_cov ? x.anees : std::nan(""), x.anees_lo, x.anees_hi, x.lost_pct, x.ms_stats.mean,
+        x.ms_stats.max, x.ms_stats.median, x.ms_stats.p99,
         x.has_cov ? x.nees_inside_95_pct : std::nan(""));
     csv << line;
     std::snprintf(
@@ -43,11 +44,14 @@ void write_tables(const std::string& out, const std::vector<std::string>& method
         "%.2f | %.3f | %.3f | %.3f | %.3f |\n",
         methods[m].c_str(), x.pos_mae, x.pos_mae_std, x.ori_mae, x.ori_mae_std, 1e3 * x.pos_mse,
         1e3 * x.pos_mse_std, 1e3 * x.ori_mse, 1e3 * x.ori_mse_std, x.has_cov ? "✓" : "✗",
-        x.has_cov ? (std::to_string(x.anees).substr(0, 5) + " [" +
-                     std::to_string(x.anees_lo).substr(0, 4) + ", " +
-                     std::to_string(x.anees_hi).substr(0, 4) + "]")
-                        .c_str()
-                  : "—",
+        x.has_cov
+            ? (std::to_string(x.anees).substr(0, 5) + " [" +
+               std::to_string(x.anees_lo).substr(0, 4) + ", " +
+               std::to_string(x.anees_hi).substr(0, 4) + "]" +
+               (x.without_cov > 0 ? " (" + std::to_string(x.without_cov) + " scans without P_k)"
+                                  : std::string()))
+                  .c_str()
+            : "—",
         inside, x.lost_pct, x.ms_stats.mean, x.ms_stats.median, x.ms_stats.p99, x.ms_stats.max);
     md << line;
     std::printf("%-8s %8.4f ± %7.4f %8.4f ± %7.4f %8s %8.3f [%.2f,%.2f] %7.2f %8.3f %8.3f\n",

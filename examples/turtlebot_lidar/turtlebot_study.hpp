@@ -25,7 +25,8 @@ struct Trace {  // one method on one run
 struct Metrics {
   double pos_mae = 0, pos_mae_std = 0, ori_mae = 0, ori_mae_std = 0;
   double pos_mse = 0, pos_mse_std = 0, ori_mse = 0, ori_mse_std = 0;
-  bool has_cov = false;
+  bool has_cov = false;  ///< some scan reported a covariance; the ANEES is over those scans
+  int without_cov = 0;   ///< scans that reported none (e.g. vdt-opt where its Hessian is not PD)
   double anees = 0, anees_lo = 0, anees_hi = 0, lost_pct = 0;
   double nees_inside_95_pct = 0;  ///< the per-step 95 % bound (eval::AneesResult::inside_95_pct)
   std::vector<double> ms;         ///< every scan's milliseconds (of all runs when combined)
