@@ -4,7 +4,7 @@
 # $VDTNAV_OUT/seed_N), then the figures of tests/studies/expected.yaml that have a target, seed by
 # seed, with how many seeds meet it: out/seeds/seeds.md. The README's seeds table is this file.
 # Usage: bash scripts/seeds.sh [DATA_DIR] (default ../shared/data; the real-data studies run when
-# their data is there). SEEDS="1 2 3" to choose the seeds. ~1 hour on 2 cores after the build.
+# their data is there). SEEDS="1 2 3" to choose the seeds. ~25 minutes on 2 cores after the build.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 data="${1:-../shared/data}"
