@@ -37,20 +37,20 @@ void write_tables(const std::string& out, const Scenario& sc, const FilterRun& r
               "ANEES [95%]", "2sig%", "ms");
   // The fusion against its two sources (issue 35: at least as accurate as either alone): the
   // fused filter's position RMSE over the smaller of the boundaries' (vdt-ekf) and the bearings'.
-  const auto pos_rmse = [&](const Trace& t) {
+  std::vector<double> pos_rmse;
+  for (const Trace& t : traces) {
     std::vector<double> pos;
     for (std::size_t k = 0; k < n; ++k)
       pos.push_back(pose_error(t.estimate[k], drive.truth[k]).head<2>().norm());
-    return rms(pos);
-  };
-  const double over_sources =
-      pos_rmse(traces[1]) / std::min(pos_rmse(traces[0]), pos_rmse(traces[2]));
-  for (const Trace& t : traces) {
-    std::vector<double> pos, yaw, nees_values;
+    pos_rmse.push_back(rms(pos));
+  }
+  const double over_sources = pos_rmse[1] / std::min(pos_rmse[0], pos_rmse[2]);
+  for (std::size_t i = 0; i < traces.size(); ++i) {
+    const Trace& t = traces[i];
+    std::vector<double> yaw, nees_values;
     std::size_t within = 0;
     for (std::size_t k = 0; k < n; ++k) {
       const Eigen::Vector3d e = pose_error(t.estimate[k], drive.truth[k]);
-      pos.push_back(e.head<2>().norm());
       yaw.push_back(e[2]);
       nees_values.push_back(eval::nees(t.estimate[k], drive.truth[k], t.covariance[k]));
       within += std::abs(e[0]) <= 2.0 * std::sqrt(t.covariance[k](0, 0)) &&
@@ -63,20 +63,20 @@ void write_tables(const std::string& out, const Scenario& sc, const FilterRun& r
     char line[512];
     std::snprintf(line, sizeof line,
                   "%s,%zu,%.4f,%.5f,%.3f,%.3f,%.3f,%.1f,%.3f,%zu,%.3f,%.3f,%.3f,%.1f,%.3f\n",
-                  t.name.c_str(), n, rms(pos), rms(yaw), a.anees, a.interval.lower,
+                  t.name.c_str(), n, pos_rmse[i], rms(yaw), a.anees, a.interval.lower,
                   a.interval.upper, pct, ms, n - a.count, per_frame.median, per_frame.p99,
-                  per_frame.max, a.inside_95_pct, &t == &traces[1] ? over_sources : std::nan(""));
+                  per_frame.max, a.inside_95_pct, i == 1 ? over_sources : std::nan(""));
     const std::string note = eval::left_out_note(a, n);
     csv << line;
     std::snprintf(line, sizeof line,
                   "| %s | %zu | %.4f | %.5f | %.2f [%.2f, %.2f]%s | %.1f | %.1f | %.3f, %.3f, "
                   "%.3f (%.3f) |\n",
-                  t.name.c_str(), n, rms(pos), rms(yaw), a.anees, a.interval.lower,
+                  t.name.c_str(), n, pos_rmse[i], rms(yaw), a.anees, a.interval.lower,
                   a.interval.upper, note.empty() ? "" : (" (" + note + ")").c_str(), pct,
                   a.inside_95_pct, ms, per_frame.median, per_frame.p99, per_frame.max);
     md << line;
     std::printf("%-18s %6zu %9.4f %9.5f %8.2f [%.2f,%.2f] %8.1f %8.2f\n", t.name.c_str(), n,
-                rms(pos), rms(yaw), a.anees, a.interval.lower, a.interval.upper, pct, ms);
+                pos_rmse[i], rms(yaw), a.anees, a.interval.lower, a.interval.upper, pct, ms);
   }
   char fusion[160];
   std::snprintf(fusion, sizeof fusion,

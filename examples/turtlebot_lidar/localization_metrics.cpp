@@ -73,32 +73,28 @@ Metrics evaluate(const Trace& t, const sim::SimulatedRun& run) {
 Metrics combine(const std::vector<Metrics>& r) {
   if (r.size() == 1) return r[0];
   Metrics m;
-  auto col = [&](double Metrics::*f) {
+  auto col = [](double Metrics::*f, const std::vector<Metrics>& of) {
     std::vector<double> v;
-    for (const auto& x : r) v.push_back(x.*f);
+    for (const auto& x : of) v.push_back(x.*f);
     return v;
   };
-  m.pos_mae = mean(col(&Metrics::pos_mae)), m.pos_mae_std = stdev(col(&Metrics::pos_mae));
-  m.ori_mae = mean(col(&Metrics::ori_mae)), m.ori_mae_std = stdev(col(&Metrics::ori_mae));
-  m.pos_mse = mean(col(&Metrics::pos_mse)), m.pos_mse_std = stdev(col(&Metrics::pos_mse));
-  m.ori_mse = mean(col(&Metrics::ori_mse)), m.ori_mse_std = stdev(col(&Metrics::ori_mse));
+  m.pos_mae = mean(col(&Metrics::pos_mae, r)), m.pos_mae_std = stdev(col(&Metrics::pos_mae, r));
+  m.ori_mae = mean(col(&Metrics::ori_mae, r)), m.ori_mae_std = stdev(col(&Metrics::ori_mae, r));
+  m.pos_mse = mean(col(&Metrics::pos_mse, r)), m.pos_mse_std = stdev(col(&Metrics::pos_mse, r));
+  m.ori_mse = mean(col(&Metrics::ori_mse, r)), m.ori_mse_std = stdev(col(&Metrics::ori_mse, r));
   std::vector<Metrics> with_cov;
   for (const auto& x : r) {
     m.without_cov += x.without_cov;
     if (x.has_cov) with_cov.push_back(x);
   }
   m.has_cov = !with_cov.empty();
-  auto cov_col = [&](double Metrics::*f) {
-    std::vector<double> v;
-    for (const auto& x : with_cov) v.push_back(x.*f);
-    return v;
-  };
   if (m.has_cov) {
-    m.anees = mean(cov_col(&Metrics::anees)), m.anees_lo = mean(cov_col(&Metrics::anees_lo));
-    m.anees_hi = mean(cov_col(&Metrics::anees_hi));
-    m.nees_inside_95_pct = mean(cov_col(&Metrics::nees_inside_95_pct));
+    m.anees = mean(col(&Metrics::anees, with_cov));
+    m.anees_lo = mean(col(&Metrics::anees_lo, with_cov));
+    m.anees_hi = mean(col(&Metrics::anees_hi, with_cov));
+    m.nees_inside_95_pct = mean(col(&Metrics::nees_inside_95_pct, with_cov));
   }
-  m.lost_pct = mean(col(&Metrics::lost_pct));
+  m.lost_pct = mean(col(&Metrics::lost_pct, r));
   std::vector<double> ms;
   for (const auto& x : r) ms.insert(ms.end(), x.ms.begin(), x.ms.end());
   set_times(m, std::move(ms));
