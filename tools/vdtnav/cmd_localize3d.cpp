@@ -25,6 +25,7 @@
 #include "vdtnav/estimation/recovering_localizer3d.hpp"
 #include "vdtnav/estimation/vdt_optimizer.hpp"
 #include "vdtnav/eval/trajectory_metrics.hpp"
+#include "vdtnav/io/scan_run.hpp"
 #include "vdtnav/io/tum_trajectory.hpp"
 #include "vdtnav/pcl/cloud_observations.hpp"
 #include "vdtnav/pcl/point_cloud_file.hpp"
@@ -88,39 +89,10 @@ struct ScanReport {
   double read_ms = 0.0, solve_ms = 0.0;
 };
 
-bool is_cloud_file(const fs::path& p) {
-  std::string ext = p.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return ext == ".pcd" || ext == ".ply" || ext == ".vtk" || ext == ".csv" || ext == ".txt" ||
-         ext == ".xyz";
-}
-
-/// The scans of --scans DIR: its point cloud files, in name order.
-std::vector<std::string> scans_in_dir(const std::string& dir) {
-  std::error_code ec;
-  if (!fs::is_directory(dir, ec)) throw IoError(dir + ": --scans needs a folder of point clouds");
-  std::vector<std::string> files;
-  for (const fs::directory_entry& e : fs::directory_iterator(dir, ec))
-    if (e.is_regular_file() && is_cloud_file(e.path())) files.push_back(e.path().string());
-  if (ec) throw IoError(dir + ": cannot list the folder: " + ec.message());
-  if (files.empty()) {
-    throw ConfigError(dir +
-                      ": no point cloud in the folder (expected .pcd, .ply, .vtk, .csv, .txt or "
-                      ".xyz files)");
-  }
-  std::sort(files.begin(), files.end());
-  return files;
-}
-
-/// A scan's time stamp: its file name's stem when that is a number (drivers and bag exporters
-/// name clouds by their stamp, e.g. 1317357625.557814.pcd), else its index in the sequence.
+/// A scan's time stamp: its file name's when that is a number (stamp_of_name), else its index in
+/// the sequence.
 double stamp_of(const std::string& path, std::size_t index) {
-  const std::string stem = fs::path(path).stem().string();
-  char* end = nullptr;
-  const double t = std::strtod(stem.c_str(), &end);
-  if (!stem.empty() && *end == '\0' && std::isfinite(t)) return t;
-  return static_cast<double>(index);
+  return stamp_of_name(path).value_or(static_cast<double>(index));
 }
 
 std::string yaml_report(const ScanReport& r, int dof, double explained_distance) {
@@ -267,7 +239,7 @@ void run_localize3d(const Localize3dArgs& a) {
   if (!a.crop.empty()) mo.crop = parse_crop(a.crop, "--crop");
   const std::vector<std::string> scans =
       !a.bag.empty() ? std::vector<std::string>{}
-                     : (a.scans_dir.empty() ? a.scans : scans_in_dir(a.scans_dir));
+                     : (a.scans_dir.empty() ? a.scans : point_cloud_files_in(a.scans_dir));
   const bool sequence = scans.size() > 1 || !a.bag.empty();
   // The outputs appear when the run completes: a sequence's folder is written under a temporary
   // name beside it (staged_output.hpp), so a bad scan in the middle leaves nothing behind.

@@ -14,6 +14,7 @@
 #include "vdtnav/octomap/octree_map.hpp"
 #include "vdtnav/pcl/point_cloud_conversion.hpp"
 #include "vdtnav/pcl/point_cloud_file.hpp"
+#include "vdtnav/pcl/registered_scans.hpp"
 
 namespace vdtnav::tools {
 namespace {
@@ -26,6 +27,52 @@ void say_grid(const OccupancyGrid<3>& g, bool quiet) {
                "VDT map)\n",
                g.size().x(), g.size().y(), g.size().z(), g.resolution(), voxels * 1e-6,
                voxels * 16.0 * 1e-6);
+}
+
+/// Voxelizes a map cloud (cropped to options.crop) into out.dense or out.sparse.
+void map_of_cloud(pcl::PointCloud<pcl::PointXYZ> cloud, const std::string& what,
+                  const Map3dOptions& options, Map3d& out) {
+  const std::size_t read = cloud.size();
+  if (options.crop) {
+    const Eigen::Vector3f lo = options.crop->min.cast<float>(),
+                          hi = options.crop->max.cast<float>();
+    pcl::PointCloud<pcl::PointXYZ> kept;
+    for (const pcl::PointXYZ& p : cloud) {
+      const Eigen::Vector3f q = p.getVector3fMap();
+      if ((q.array() >= lo.array()).all() && (q.array() <= hi.array()).all()) kept.push_back(p);
+    }
+    if (kept.empty()) throw UsageError(what + ": --crop keeps none of the cloud's points");
+    cloud.swap(kept);
+  }
+  PointCloudOccupancyOptions o;
+  o.resolution = options.resolution > 0.0 ? options.resolution : 0.1;
+  o.margin = options.margin;
+  o.thin_surfaces = options.thin_surfaces;
+  if (options.sparse) {
+    if (!options.quiet)
+      std::fprintf(stderr, "[map3d] %zu points read, %zu kept\n", read, cloud.size());
+    out.sparse = std::make_unique<SparseVdtMap3>(sparse_vdt_map_from_point_cloud(cloud, o));
+  } else {
+    const PointCloudOccupancy occ = occupancy_from_point_cloud(cloud, o);
+    if (!options.quiet) {
+      std::fprintf(stderr, "[map3d] %zu points read, %zu kept, %zu occupied voxels\n", read,
+                   cloud.size() - occ.num_dropped, occ.num_occupied);
+    }
+    say_grid(occ.occupancy, options.quiet);
+    out.dense = std::make_unique<VdtMap3>(VdtMap3::build(occ.occupancy));
+  }
+  out.source = options.sparse ? "point cloud, sparse" : "point cloud";
+}
+
+void check_map_options(const Map3dOptions& options) {
+  if (!(std::isfinite(options.resolution) && options.resolution >= 0.0))
+    throw UsageError("--resolution must be finite and >= 0 (0: the source's default)");
+  if (!(std::isfinite(options.margin) && options.margin >= 0.0))
+    throw UsageError("--margin must be finite and >= 0");
+}
+
+double seconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
 }  // namespace
@@ -55,10 +102,7 @@ CropBox parse_crop(const std::string& text, const std::string& what) {
 }
 
 Map3d load_map3d(const std::string& path, const Map3dOptions& options) {
-  if (!(std::isfinite(options.resolution) && options.resolution >= 0.0))
-    throw UsageError("--resolution must be finite and >= 0 (0: the source's default)");
-  if (!(std::isfinite(options.margin) && options.margin >= 0.0))
-    throw UsageError("--margin must be finite and >= 0");
+  check_map_options(options);
   const auto start = std::chrono::steady_clock::now();
   const std::string ext = lower_extension(path);
   Map3d out;
@@ -94,38 +138,40 @@ Map3d load_map3d(const std::string& path, const Map3dOptions& options) {
     out.source = options.sparse ? "octree, sparse" : "octree";
   } else {
     pcl::PointCloud<pcl::PointXYZ> cloud = read_point_cloud(path);
-    const std::size_t read = cloud.size();
-    if (options.crop) {
-      const Eigen::Vector3f lo = options.crop->min.cast<float>(),
-                            hi = options.crop->max.cast<float>();
-      pcl::PointCloud<pcl::PointXYZ> kept;
-      for (const pcl::PointXYZ& p : cloud) {
-        const Eigen::Vector3f q = p.getVector3fMap();
-        if ((q.array() >= lo.array()).all() && (q.array() <= hi.array()).all()) kept.push_back(p);
-      }
-      if (kept.empty()) throw UsageError(path + ": --crop keeps none of the cloud's points");
-      cloud.swap(kept);
-    }
-    PointCloudOccupancyOptions o;
-    o.resolution = options.resolution > 0.0 ? options.resolution : 0.1;
-    o.margin = options.margin;
-    o.thin_surfaces = options.thin_surfaces;
-    if (options.sparse) {
-      if (!options.quiet)
-        std::fprintf(stderr, "[map3d] %zu points read, %zu kept\n", read, cloud.size());
-      out.sparse = std::make_unique<SparseVdtMap3>(sparse_vdt_map_from_point_cloud(cloud, o));
-    } else {
-      const PointCloudOccupancy occ = occupancy_from_point_cloud(cloud, o);
-      if (!options.quiet) {
-        std::fprintf(stderr, "[map3d] %zu points read, %zu kept, %zu occupied voxels\n", read,
-                     cloud.size() - occ.num_dropped, occ.num_occupied);
-      }
-      say_grid(occ.occupancy, options.quiet);
-      out.dense = std::make_unique<VdtMap3>(VdtMap3::build(occ.occupancy));
-    }
-    out.source = options.sparse ? "point cloud, sparse" : "point cloud";
+    map_of_cloud(std::move(cloud), path, options, out);
   }
-  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  out.seconds = seconds_since(start);
+  return out;
+}
+
+Map3d build_map3d_from_scans(const ScanRun& run, const Map3dOptions& options) {
+  check_map_options(options);
+  const auto start = std::chrono::steady_clock::now();
+  const std::vector<std::string> clouds = point_cloud_files_in(run.dir);
+  const ScanPoseFile poses = load_scan_poses(run.poses);
+  const std::vector<Pose3> pose_of = poses_of_scans(poses, clouds, run.stamp_tolerance);
+  const std::vector<std::size_t> kept = select_scans(clouds.size(), run.selection);
+  const double resolution = options.resolution > 0.0 ? options.resolution : 0.1;
+  if (!options.quiet) {
+    std::fprintf(stderr, "[map3d] %zu of the %zu clouds of %s, posed by %s (%s)\n", kept.size(),
+                 clouds.size(), run.dir.c_str(), run.poses.c_str(),
+                 poses.format == ScanPoseFormat::kKitti ? "KITTI" : "TUM");
+  }
+  RegisteredScans merged(resolution / 4.0);
+  for (std::size_t i = 0; i < kept.size(); ++i) {
+    const std::size_t k = kept[i];
+    merged.add(read_point_cloud(clouds[k]), pose_of[k] * run.lidar_pose);
+    if (!options.quiet && (i + 1 == kept.size() || (i + 1) % 100 == 0)) {
+      std::fprintf(stderr, "[map3d] %zu / %zu clouds merged: %zu points, %zu cells of %.3f m\n",
+                   i + 1, kept.size(), merged.points_added(), merged.cells(), resolution / 4.0);
+    }
+  }
+  if (merged.points_added() == 0)
+    throw ConfigError(run.dir + ": the selected clouds hold no finite point");
+  Map3d out;
+  map_of_cloud(merged.cloud(), run.dir, options, out);
+  out.source = options.sparse ? "mapping run, sparse" : "mapping run";
+  out.seconds = seconds_since(start);
   return out;
 }
 

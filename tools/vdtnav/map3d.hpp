@@ -11,6 +11,8 @@
 
 #include <Eigen/Core>
 
+#include "vdtnav/core/pose3.hpp"
+#include "vdtnav/io/scan_run.hpp"
 #include "vdtnav/map/sparse_vdt_map.hpp"
 #include "vdtnav/map/vdt_map.hpp"
 
@@ -49,6 +51,25 @@ struct Map3d {
   }
   [[nodiscard]] std::size_t memory_bytes() const;
 };
+
+/// \brief A mapping run to build a map from (`map3d --scans DIR --poses FILE`): the clouds of
+/// `dir` in name order, each moved into the map frame by its pose in `poses` (KITTI or TUM,
+/// io/scan_run.hpp) composed with `lidar_pose`.
+struct ScanRun {
+  std::string dir, poses;
+  ScanSelection selection;        ///< which clouds (--every, --skip-odd, --skip-even)
+  double stamp_tolerance = 0.01;  ///< TUM: seconds between a cloud's name and its pose's stamp
+  /// The clouds' frame in the frame whose poses the file gives (e.g. KITTI's camera poses and a
+  /// Velodyne's clouds: the camera-from-Velodyne calibration).
+  Pose3 lidar_pose = Pose3::Identity();
+};
+
+/// \brief Builds the map of a mapping run: the selected clouds merged in the map frame
+/// (RegisteredScans, cells of a quarter voxel), then voxelized as a map cloud file is
+/// (`options`: resolution, margin, crop in the map frame, thinning, sparse), saying on stderr
+/// what it reads.
+/// \throws vdtnav::Error (file, what was expected) for a bad folder, pose file, cloud or option.
+[[nodiscard]] Map3d build_map3d_from_scans(const ScanRun& run, const Map3dOptions& options);
 
 /// \brief Loads or builds the VDT map of `path`, saying on stderr what it does (the grid's size
 /// and memory first: a dense 3D grid grows with the box, see `--crop`).

@@ -6,3 +6,4 @@
 #include "vdtnav/pcl/point_cloud_conversion.hpp"
 #include "vdtnav/pcl/point_cloud_file.hpp"
 #include "vdtnav/pcl/point_cloud_map.hpp"
+#include "vdtnav/pcl/registered_scans.hpp"
