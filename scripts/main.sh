@@ -81,7 +81,7 @@ if [ -d "$data" ]; then
   "$bin/kidnapped/vdtnav_kidnapped" --data "$data" --out "$out/kidnapped_real"
   lpm="$data/3d/libpointmatcher"
   if [ -f "$lpm/car_cloud401.csv" ] && build/release/tools/vdtnav/vdtnav localize3d --help >/dev/null 2>&1; then
-    step "[20/22] vdtnav localize3d: libpointmatcher's real car scans, each on a map of the other, from identity"
+    step "[20/22] vdtnav localize3d: libpointmatcher's real car scans, each on a map of the other, from identity; the 3D LiDAR study on the pair as a sequence (scan 401 makes the map, 400 is localized)"
     mkdir -p "$out/localize3d_car"
     build/release/tools/vdtnav/vdtnav localize3d --map "$lpm/car_cloud400.csv" \
       --crop -40,-40,-12,40,40,20 --resolution 0.2 --scan "$lpm/car_cloud401.csv" --multi-start \
@@ -89,6 +89,25 @@ if [ -d "$data" ]; then
     build/release/tools/vdtnav/vdtnav localize3d --map "$lpm/car_cloud401.csv" \
       --crop -40,-40,-12,40,40,20 --resolution 0.2 --scan "$lpm/car_cloud400.csv" --multi-start \
       --out "$out/localize3d_car/car_cloud400_in_401.yaml"
+    if [ -x "$bin/lidar_3d/vdtnav_lidar_3d" ] && [ -f "$lpm/carCloudList.csv" ]; then
+      # The pair as a real sequence for the 3D LiDAR study (--scans DIR --poses FILE, the odd
+      # scans make the map): links to the clouds in carCloudList.csv's order, named 000000.csv,
+      # ..., and its 4x4 poses as KITTI 3x4 rows. The data stays where it is.
+      seq="$out/lidar_3d_real_car/input"
+      rm -rf "$seq"
+      mkdir -p "$seq/scans"
+      awk -F', *' 'NR > 1 { print $1 }' "$lpm/carCloudList.csv" | {
+        k=0
+        while read -r name; do
+          ln -s "$(realpath "$lpm/$name")" "$seq/scans/$(printf '%06d' "$k").${name##*.}"
+          k=$((k + 1))
+        done
+      }
+      awk -F', *' 'NR > 1 { print $2, $3, $4, $5, $6, $7, $8, $9, $10, $11, $12, $13 }' \
+        "$lpm/carCloudList.csv" > "$seq/poses.kitti"
+      "$bin/lidar_3d/vdtnav_lidar_3d" --scans "$seq/scans" --poses "$seq/poses.kitti" \
+        --out "$out/lidar_3d_real_car"
+    fi
   fi
   if [ -d "$data/rosbags" ] && [ -x "$bin/ros_bags/vdtnav_ros_bags" ]; then
     step "[21/22] ROS bags: a TurtleBot 4's ROS 2 bag and a Pioneer's ROS 1 bag localized on their maps from no prior"

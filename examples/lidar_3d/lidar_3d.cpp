@@ -22,6 +22,9 @@
 // Writes to --out: table.csv (method,scans,pos_rmse_m,att_rmse_rad,anees,anees_lo,anees_hi,
 // lost_pct,ms_per_scan,anees_left_out,ms_median,ms_p99,ms_max,nees_inside_95_pct), table.md,
 // trajectory.png (top view), errors.png (errors with +-2 sigma).
+// With --scans DIR --poses FILE (KITTI or TUM, as `vdtnav map3d --scans` reads them) it runs on a
+// real sequence instead (real_scans.cpp): the odd scans make the map, the even ones are localized
+// on it from a noisy odometry prediction; the same table.csv columns, rows *-real.
 #include <CLI/CLI.hpp>
 
 #include <chrono>
@@ -54,6 +57,8 @@ int main(int argc, char** argv) {
   std::string out = "lidar_3d_out", map_path;
   unsigned seed = 1;
   int scans = 300;
+  std::string scans_arg;
+  lidar3d::RealScans real;
   std::size_t points = 2000;
   double speed = 1.0;
   app.add_option("--out", out, "output folder")->capture_default_str();
@@ -61,7 +66,17 @@ int main(int argc, char** argv) {
                  "3D map to drive in: OctoMap (.bt/.ot) or point cloud (.pcd/.ply/.vtk/.csv); "
                  "default: the generated 3D room");
   app.add_option("--seed", seed, "seed of the room, the tour and the noise")->capture_default_str();
-  app.add_option("--scans", scans, "scans (10 Hz)")->capture_default_str();
+  app.add_option("--scans", scans_arg,
+                 "scans of the simulated drive (10 Hz; default 300), or a folder of real scans "
+                 "(with --poses: the odd ones make the map, the even ones are localized)");
+  app.add_option("--poses", real.poses,
+                 "--scans DIR: the scans' reference poses, KITTI (3x4 row-major, a line per scan "
+                 "in name order) or TUM (stamps matched to the scans' numeric names)");
+  app.add_option("--resolution", real.resolution, "--scans DIR: the map's voxel edge, metres")
+      ->capture_default_str();
+  app.add_option("--sigma-range", real.sigma_range,
+                 "--scans DIR: the sensor's range noise standard deviation, metres")
+      ->capture_default_str();
   app.add_option("--points", points, "readings per scan after voxel downsampling (about)")
       ->capture_default_str();
   app.add_option("--speed", speed, "cruise speed, m/s")->capture_default_str();
@@ -84,12 +99,29 @@ int main(int argc, char** argv) {
   app.add_option("--gate-rounds", o6.optimizer.gate_rounds, "re-gating rounds per solve")
       ->capture_default_str();
   CLI11_PARSE(app, argc, argv);
+  // --scans N (a count) or --scans DIR (a real sequence).
+  const bool real_run =
+      !scans_arg.empty() && scans_arg.find_first_not_of("0123456789") != std::string::npos;
+  if (!scans_arg.empty() && !real_run) scans = std::stoi(scans_arg);
+  if (real_run != !real.poses.empty()) {
+    std::fprintf(stderr, "error: --poses FILE goes with --scans DIR (a folder of real scans)\n");
+    return 2;
+  }
   const auto t_start = Clock::now();
   const auto seconds = [&] {
     return std::chrono::duration<double>(Clock::now() - t_start).count();
   };
   try {
     std::filesystem::create_directories(out);
+    if (real_run) {
+      real.dir = scans_arg;
+      real.out = out;
+      real.points = app.count("--points") > 0 ? points : 0;  // default: a reading per voxel
+      real.seed = seed;
+      lidar3d::run_real_scans(real);
+      std::printf("wrote %s/table.csv, table.md (%.1f s)\n", out.c_str(), seconds());
+      return 0;
+    }
     // ------------------------------------------------------------------ the world (= the map)
     std::string world_name;
     const OccupancyGrid<3> world = lidar3d::load_world(map_path, seed, &world_name);
@@ -173,17 +205,7 @@ int main(int argc, char** argv) {
         if (m >= 2 && k >= static_cast<std::size_t>(rebuilt_scans)) continue;
         const auto s0 = Clock::now();
         const LocalizationResult3 r = locs[m]->update(odo, obs);
-        const double update_s = std::chrono::duration<double>(Clock::now() - s0).count();
-        runs[m].seconds += update_s;
-        runs[m].scan_ms.push_back(1e3 * update_s);
-        runs[m].estimates.push_back(r.pose);
-        runs[m].covariances.push_back(r.covariance);
-        int dof = 0;
-        runs[m].nees.push_back(eval::nees(r.pose, truth[k], r.covariance, &dof));
-        runs[m].nees_dof.push_back(dof);
-        runs[m].lost += r.status == LocalizationStatus::kLost;
-        runs[m].iterations += r.iterations;
-        runs[m].refused += r.status == LocalizationStatus::kRefused;
+        runs[m].record(r, truth[k], std::chrono::duration<double>(Clock::now() - s0).count());
       }
       if ((k + 1) % 50 == 0 || k + 1 == truth.size())
         std::fprintf(stderr, "[lidar_3d] scan %zu / %zu (%.0f s)\n", k + 1, truth.size(),

@@ -4,6 +4,7 @@
 // tables (tables.cpp) and the figures (figures.cpp).
 
 #include <cstddef>
+#include <ostream>
 #include <string>
 #include <vector>
 
@@ -65,7 +66,15 @@ struct Run {
   long iterations = 0;
   double seconds = 0.0;
   std::vector<double> scan_ms;  ///< each update's wall time: the table's median, p99 and max
+
+  /// Adds an update's result, scored against `truth`, that took `seconds` of wall time.
+  void record(const vdtnav::LocalizationResult3& r, const vdtnav::Pose3& truth, double seconds);
 };
+
+/// Writes the table.csv header and a row per run, the table.md table, and prints each run's
+/// summary; `truth[k]` is the reference of every run's k-th estimate.
+void write_rows(std::ostream& csv, std::ostream& md, const std::vector<vdtnav::Pose3>& truth,
+                const Run* runs, std::size_t count_runs);
 
 /// Writes table.csv and table.md and prints each run's summary.
 void write_tables(const std::string& out, const std::string& world_name,
@@ -73,6 +82,22 @@ void write_tables(const std::string& out, const std::string& world_name,
                   double voxel, const vdtnav::sim::Lidar3dSpec& vlp16,
                   const vdtnav::VdtLocalizer3Options& o6, std::size_t mapping_scans,
                   double map_pose_sigma, const Run (&runs)[kRuns], double sim_seconds);
+
+/// The study on a real sequence (real_scans.cpp): `--scans DIR --poses FILE`.
+struct RealScans {
+  std::string dir, poses, out;
+  /// Readings per scan after voxel downsampling (about; the edge is fitted on the first scan);
+  /// 0: one reading per map voxel, as `vdtnav localize3d` does by default.
+  std::size_t points = 0;
+  double voxel = -1.0;        ///< >= 0: this edge instead
+  double resolution = 0.1;    ///< the map's voxel edge, metres (map3d's default)
+  double sigma_range = 0.03;  ///< metres (localize3d's --sigma-range default)
+  unsigned seed = 1;          ///< the odometry noise and the start's
+};
+
+/// Builds the map of the odd scans, localizes the even ones, writes table.csv and table.md.
+/// \throws vdtnav::Error for a bad folder, pose file or cloud.
+void run_real_scans(const RealScans& options);
 
 /// Draws trajectory.png (top view over the footprint) and errors.png (errors with +-2 sigma).
 void draw_figures(const std::string& out, const Footprint& fp,

@@ -1,7 +1,9 @@
-// The tables: table.csv and table.md, one row per localizer run, and the printed summary.
+// The tables: table.csv and table.md, one row per localizer run, and the printed summary; the
+// per-update record they are made of.
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <ostream>
 #include <string>
 #include <vector>
 
@@ -13,33 +15,28 @@ namespace lidar3d {
 
 using namespace vdtnav;
 
-void write_tables(const std::string& out, const std::string& world_name,
-                  const std::vector<Pose3>& truth, double speed, std::size_t readings_sum,
-                  double voxel, const sim::Lidar3dSpec& vlp16, const VdtLocalizer3Options& o6,
-                  std::size_t mapping_scans, double map_pose_sigma, const Run (&runs)[kRuns],
-                  double sim_seconds) {
-  std::ofstream csv(out + "/table.csv");
+void Run::record(const LocalizationResult3& r, const Pose3& truth, double update_s) {
+  seconds += update_s;
+  scan_ms.push_back(1e3 * update_s);
+  estimates.push_back(r.pose);
+  covariances.push_back(r.covariance);
+  int dof = 0;
+  nees.push_back(eval::nees(r.pose, truth, r.covariance, &dof));
+  nees_dof.push_back(dof);
+  lost += r.status == LocalizationStatus::kLost;
+  iterations += r.iterations;
+  refused += r.status == LocalizationStatus::kRefused;
+}
+
+void write_rows(std::ostream& csv, std::ostream& md, const std::vector<Pose3>& truth,
+                const Run* runs, std::size_t count_runs) {
   csv << "method,scans,pos_rmse_m,att_rmse_rad,anees,anees_lo,anees_hi,lost_pct,ms_per_scan,"
          "anees_left_out,ms_median,ms_p99,ms_max,nees_inside_95_pct\n";
-  std::ofstream md(out + "/table.md");
-  md << "# 3D LiDAR localization: simulated VLP-16 scans on the " << world_name << " map\n\n"
-     << truth.size() << " scans at 10 Hz, " << speed << " m/s, about "
-     << readings_sum / truth.size() << " readings per scan after " << voxel
-     << " m voxel downsampling (of " << vlp16.rings * vlp16.rays_per_ring()
-     << " rays); odometry noise 5 % per metre + 0.02 m/s, 5 % per radian + 0.01 rad/s; IMU roll "
-        "and pitch sigma "
-     << o6.sigma_imu_attitude
-     << " rad. The scans are ray cast in the map's own voxels (no map error but quantisation); "
-        "the *-rebuilt rows localize them on the map `vdtnav map3d` makes of a separate mapping "
-        "drive ("
-     << mapping_scans << " scans registered with " << map_pose_sigma << " m / "
-     << 0.1 * map_pose_sigma
-     << " rad of pose error per axis), as a real map is made. ANEES interval: 95 % (chi-square, "
-        "N x dof).\n\n"
-     << "| method | scans | position RMSE (m) | attitude RMSE (rad) | ANEES | 95 % interval | "
+  md << "| method | scans | position RMSE (m) | attitude RMSE (rad) | ANEES | 95 % interval | "
         "NEES ≤ χ²(95 %) (%) | lost % | ms per scan: mean, median, p99 (max) |\n"
         "|---|---|---|---|---|---|---|---|---|\n";
-  for (const Run& r : runs) {
+  for (std::size_t m = 0; m < count_runs; ++m) {
+    const Run& r = runs[m];
     const std::size_t count = r.estimates.size();  // the rebuilt rows: the first scans
     double se_p = 0.0, se_a = 0.0;
     for (std::size_t k = 0; k < count; ++k) {
@@ -76,6 +73,30 @@ void write_tables(const std::string& out, const std::string& world_name,
         a.interval.upper, dof, lost_pct, r.refused, ms, per_scan.median, per_scan.p99, per_scan.max,
         static_cast<double>(r.iterations) / n);
   }
+}
+
+void write_tables(const std::string& out, const std::string& world_name,
+                  const std::vector<Pose3>& truth, double speed, std::size_t readings_sum,
+                  double voxel, const sim::Lidar3dSpec& vlp16, const VdtLocalizer3Options& o6,
+                  std::size_t mapping_scans, double map_pose_sigma, const Run (&runs)[kRuns],
+                  double sim_seconds) {
+  std::ofstream csv(out + "/table.csv");
+  std::ofstream md(out + "/table.md");
+  md << "# 3D LiDAR localization: simulated VLP-16 scans on the " << world_name << " map\n\n"
+     << truth.size() << " scans at 10 Hz, " << speed << " m/s, about "
+     << readings_sum / truth.size() << " readings per scan after " << voxel
+     << " m voxel downsampling (of " << vlp16.rings * vlp16.rays_per_ring()
+     << " rays); odometry noise 5 % per metre + 0.02 m/s, 5 % per radian + 0.01 rad/s; IMU roll "
+        "and pitch sigma "
+     << o6.sigma_imu_attitude
+     << " rad. The scans are ray cast in the map's own voxels (no map error but quantisation); "
+        "the *-rebuilt rows localize them on the map `vdtnav map3d` makes of a separate mapping "
+        "drive ("
+     << mapping_scans << " scans registered with " << map_pose_sigma << " m / "
+     << 0.1 * map_pose_sigma
+     << " rad of pose error per axis), as a real map is made. ANEES interval: 95 % (chi-square, "
+        "N x dof).\n\n";
+  write_rows(csv, md, truth, runs, kRuns);
   md << "\nTimes: localizer update per scan (observations given), this machine; the ray casting "
         "of the simulated scans took "
      << 1e3 * sim_seconds / static_cast<double>(truth.size())

@@ -157,19 +157,21 @@ Map3d build_map3d_from_scans(const ScanRun& run, const Map3dOptions& options) {
                  clouds.size(), run.dir.c_str(), run.poses.c_str(),
                  poses.format == ScanPoseFormat::kKitti ? "KITTI" : "TUM");
   }
-  RegisteredScans merged(resolution / 4.0);
-  for (std::size_t i = 0; i < kept.size(); ++i) {
-    const std::size_t k = kept[i];
-    merged.add(read_point_cloud(clouds[k]), pose_of[k] * run.lidar_pose);
-    if (!options.quiet && (i + 1 == kept.size() || (i + 1) % 100 == 0)) {
-      std::fprintf(stderr, "[map3d] %zu / %zu clouds merged: %zu points, %zu cells of %.3f m\n",
-                   i + 1, kept.size(), merged.points_added(), merged.cells(), resolution / 4.0);
-    }
+  std::vector<std::string> files;
+  std::vector<Pose3> posed;
+  for (const std::size_t k : kept) {
+    files.push_back(clouds[k]);
+    posed.push_back(pose_of[k] * run.lidar_pose);
   }
-  if (merged.points_added() == 0)
-    throw ConfigError(run.dir + ": the selected clouds hold no finite point");
+  const pcl::PointCloud<pcl::PointXYZ> merged = merge_scan_files(
+      files, posed, resolution / 4.0, [&](std::size_t i, const RegisteredScans& m) {
+        if (!options.quiet && (i + 1 == files.size() || (i + 1) % 100 == 0)) {
+          std::fprintf(stderr, "[map3d] %zu / %zu clouds merged: %zu points, %zu cells of %.3f m\n",
+                       i + 1, files.size(), m.points_added(), m.cells(), resolution / 4.0);
+        }
+      });
   Map3d out;
-  map_of_cloud(merged.cloud(), run.dir, options, out);
+  map_of_cloud(merged, run.dir, options, out);
   out.source = options.sparse ? "mapping run, sparse" : "mapping run";
   out.seconds = seconds_since(start);
   return out;

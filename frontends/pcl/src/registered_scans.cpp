@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "vdtnav/core/error.hpp"
+#include "vdtnav/pcl/point_cloud_file.hpp"
 
 namespace vdtnav {
 namespace {
@@ -60,6 +61,22 @@ pcl::PointCloud<pcl::PointXYZ> RegisteredScans::cloud() const {
     out.push_back(pcl::PointXYZ(c.x(), c.y(), c.z()));
   }
   return out;
+}
+
+pcl::PointCloud<pcl::PointXYZ> merge_scan_files(
+    const std::vector<std::string>& files, const std::vector<Pose3>& poses, double cell,
+    const std::function<void(std::size_t, const RegisteredScans&)>& on_scan) {
+  VDTNAV_CHECK(files.size() == poses.size(), "merge_scan_files: " + std::to_string(files.size()) +
+                                                 " files for " + std::to_string(poses.size()) +
+                                                 " poses");
+  RegisteredScans merged(cell);
+  for (std::size_t k = 0; k < files.size(); ++k) {
+    merged.add(read_point_cloud(files[k]), poses[k]);
+    if (on_scan) on_scan(k, merged);
+  }
+  VDTNAV_CHECK(merged.points_added() > 0, "merge_scan_files: the " + std::to_string(files.size()) +
+                                              " clouds hold no finite point");
+  return merged.cloud();
 }
 
 }  // namespace vdtnav

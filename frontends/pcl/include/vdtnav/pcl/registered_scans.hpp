@@ -7,7 +7,10 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
+#include <string>
 #include <unordered_map>
+#include <vector>
 
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>
@@ -50,5 +53,14 @@ class RegisteredScans {
   std::unordered_map<std::uint64_t, Sum> cells_;
   std::size_t scans_ = 0, added_ = 0, dropped_ = 0;
 };
+
+/// \brief The map cloud of a mapping run's files: each read (read_point_cloud(), any format it
+/// takes) and added at its pose, `poses[k]` for `files[k]`; `on_scan(k, merged)` after each one
+/// when set (progress).
+/// \throws what read_point_cloud() and RegisteredScans throw, ConfigError when the counts differ
+///         or no finite point was read.
+[[nodiscard]] pcl::PointCloud<pcl::PointXYZ> merge_scan_files(
+    const std::vector<std::string>& files, const std::vector<Pose3>& poses, double cell,
+    const std::function<void(std::size_t, const RegisteredScans&)>& on_scan = {});
 
 }  // namespace vdtnav
