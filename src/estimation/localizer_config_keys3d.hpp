@@ -55,6 +55,13 @@ void visit(V& v, VdtLocalizer3Options& o) {
            "odometry rotation noise per second");
   v.number("sigma_imu_attitude", o.sigma_imu_attitude, "rad",
            "the IMU's roll and pitch noise (1 sigma), for odometry that carries them");
+  v.flag("deskew", o.deskew,
+         "move readings that carry times (a spinning LiDAR's sweep) to the scan's stamp by the "
+         "predicted motion, then by the motion to the solution (sensor/sweep_motion.hpp); "
+         "false: scans are instantaneous");
+  v.integer("deskew_passes", o.deskew_passes, "count",
+            "solves per deskewed scan: the first by the predicted motion, the next by the motion "
+            "to the last solution, until it settles within 1 mm over the sweep");
   v.number_or_nan("held_attitude_sigma", o.held_attitude_sigma, "rad",
                   "4-DOF without an IMU: the held roll and pitch's standard deviation "
                   "(--attitude-sigma); .nan: not estimated (NaN rows and columns in the "

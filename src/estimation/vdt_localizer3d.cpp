@@ -8,9 +8,14 @@
 #include <Eigen/Cholesky>
 
 #include "vdtnav/core/error.hpp"
+#include "vdtnav/sensor/sweep_motion.hpp"
 
 namespace vdtnav {
 namespace {
+
+/// Metres a rotation-rate change is weighed at when deciding whether the sweep's motion settled:
+/// the range at which a reading moves as much as the sensor does.
+constexpr double kDeskewLeverArm = 10.0;
 
 void check(const VdtLocalizer3Options& o) {
   VDTNAV_CHECK(o.sigma_translation_per_metre >= 0.0 && o.sigma_rotation_per_radian >= 0.0 &&
@@ -20,6 +25,7 @@ void check(const VdtLocalizer3Options& o) {
   VDTNAV_CHECK(std::isnan(o.held_attitude_sigma) || o.held_attitude_sigma > 0.0,
                "localizer3d: held_attitude_sigma must be > 0, or NaN (not estimated)");
   VDTNAV_CHECK(o.explained_distance > 0.0, "localizer3d: explained_distance must be > 0");
+  VDTNAV_CHECK(o.deskew_passes >= 1, "localizer3d: deskew_passes must be >= 1");
   VDTNAV_CHECK(o.accept_fraction >= 0.0 && o.accept_fraction <= 1.0,
                "localizer3d: accept_fraction must be in [0, 1]");
   o.lost.validate();
@@ -139,7 +145,40 @@ Matrix6d VdtOptimizationLocalizer3::with_held_attitude(const ObservationSet3& ob
 }
 
 LocalizationResult3 VdtOptimizationLocalizer3::update(const OdometryStep3& odometry,
-                                                      const ObservationSet3& observations) {
+                                                      const ObservationSet3& scan) {
+  if (!options_.deskew || scan.times.empty() || !(odometry.dt > 0.0))
+    return update_with(odometry, scan);
+  // Deskewing (sweep_motion.hpp): the readings move to the stamp's frame at constant velocity,
+  // the motion held during each solve: first the prediction's, then the motion from the previous
+  // estimate to the solution, until it settles (options.deskew_passes).
+  const Pose3 previous = pose_;
+  const Matrix6d previous_covariance = covariance_;
+  double sweep = 0.0;
+  for (const double t : scan.times) sweep = std::max(sweep, std::abs(t));
+  SweepMotion motion = SweepMotion::from_increment(odometry.delta, odometry.dt);
+  LocalizationResult3 r;
+  long iterations = 0;
+  for (int pass = 1;; ++pass) {
+    ObservationSet3 deskewed = scan;
+    deskew(deskewed, motion);
+    r = update_with(odometry, deskewed);
+    iterations += r.iterations;
+    if (pass >= options_.deskew_passes || r.status != LocalizationStatus::kConverged) break;
+    const SweepMotion refined =
+        SweepMotion::from_increment(previous.inverse() * r.pose, odometry.dt);
+    const double change = sweep * ((refined.velocity - motion.velocity).norm() +
+                                   (refined.rates - motion.rates).norm() * kDeskewLeverArm);
+    motion = refined;
+    if (change < 1e-3) break;  // under 1 mm over the sweep
+    pose_ = previous;
+    covariance_ = previous_covariance;
+  }
+  r.iterations = iterations;
+  return r;
+}
+
+LocalizationResult3 VdtOptimizationLocalizer3::update_with(const OdometryStep3& odometry,
+                                                           const ObservationSet3& observations) {
   // 1. Prediction.
   Pose3 guess = pose_ * odometry.delta;
   Matrix6d f = Matrix6d::Identity();

@@ -12,8 +12,12 @@ int Lidar3dSpec::rays_per_ring() const {
   return static_cast<int>(std::lround(2.0 * 3.14159265358979323846 / azimuth_step));
 }
 
-Lidar3dScan simulate_lidar3d_scan(const OccupancyGrid<3>& map, const Pose3& sensor_in_world,
-                                  const Lidar3dSpec& spec, std::mt19937& rng) {
+namespace {
+
+/// One turn; the rays of azimuth column j leave from pose_of(j) (world frame).
+template <typename PoseOf>
+Lidar3dScan cast_turn(const OccupancyGrid<3>& map, const PoseOf& pose_of, const Lidar3dSpec& spec,
+                      std::mt19937& rng) {
   std::ostringstream bad;
   if (spec.rings < 1)
     bad << "rings must be >= 1, got " << spec.rings;
@@ -32,8 +36,6 @@ Lidar3dScan simulate_lidar3d_scan(const OccupancyGrid<3>& map, const Pose3& sens
   Lidar3dScan scan;
   scan.points.reserve(static_cast<std::size_t>(spec.rings) * static_cast<std::size_t>(n));
   std::normal_distribution<double> noise(0.0, 1.0);
-  const Eigen::Matrix3d& r = sensor_in_world.linear();
-  const Eigen::Vector3d origin = sensor_in_world.translation();
   const double nan = std::numeric_limits<double>::quiet_NaN();
   for (int k = 0; k < spec.rings; ++k) {
     const double e =
@@ -41,9 +43,11 @@ Lidar3dScan simulate_lidar3d_scan(const OccupancyGrid<3>& map, const Pose3& sens
             ? spec.min_elevation
             : spec.min_elevation + (spec.max_elevation - spec.min_elevation) * k / (spec.rings - 1);
     for (int j = 0; j < n; ++j) {
+      const Pose3 sensor = pose_of(j);
       const double a = j * spec.azimuth_step;
       const Eigen::Vector3d u(std::cos(e) * std::cos(a), std::cos(e) * std::sin(a), std::sin(e));
-      const double exact = cast_ray<3>(map, origin, r * u, spec.range_max, spec.surface);
+      const double exact =
+          cast_ray<3>(map, sensor.translation(), sensor.linear() * u, spec.range_max, spec.surface);
       const double range = exact + spec.sigma_range * noise(rng);  // the draw in every case
       if (!std::isfinite(exact) || range < spec.range_min || range >= spec.range_max) {
         scan.points.emplace_back(nan, nan, nan);
@@ -53,6 +57,29 @@ Lidar3dScan simulate_lidar3d_scan(const OccupancyGrid<3>& map, const Pose3& sens
       ++scan.returns;
     }
   }
+  return scan;
+}
+
+}  // namespace
+
+Lidar3dScan simulate_lidar3d_scan(const OccupancyGrid<3>& map, const Pose3& sensor_in_world,
+                                  const Lidar3dSpec& spec, std::mt19937& rng) {
+  return cast_turn(
+      map, [&](int) { return sensor_in_world; }, spec, rng);
+}
+
+Lidar3dScan simulate_lidar3d_sweep(const OccupancyGrid<3>& map, const Pose3& sensor_at_stamp,
+                                   const SweepMotion& motion, const Lidar3dSpec& spec,
+                                   std::mt19937& rng) {
+  VDTNAV_CHECK(std::isfinite(spec.rate_hz) && spec.rate_hz > 0.0,
+               "simulate_lidar3d_sweep: rate_hz must be > 0");
+  const double column_dt = 1.0 / (spec.rays_per_ring() * spec.rate_hz);
+  Lidar3dScan scan = cast_turn(
+      map, [&](int j) { return sensor_at_stamp * motion.at(j * column_dt); }, spec, rng);
+  const int n = spec.rays_per_ring();
+  scan.times.resize(scan.points.size());
+  for (std::size_t k = 0; k < scan.points.size(); ++k)
+    scan.times[k] = static_cast<double>(k % static_cast<std::size_t>(n)) * column_dt;
   return scan;
 }
 
@@ -67,6 +94,7 @@ ObservationSet3 lidar3d_observations(const Lidar3dScan& scan, const Lidar3dSpec&
     }
     const double r = scan.points[i].norm();
     obs.add(Eigen::Vector3d::Zero(), scan.points[i] / r, r, i);
+    if (!scan.times.empty()) obs.times.push_back(scan.times[i]);
   }
   return obs;
 }

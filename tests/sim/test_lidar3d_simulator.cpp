@@ -78,6 +78,44 @@ TEST(Lidar3dSimulator, NoReturnIsNaNAndTheRangeNoiseHasTheSpecsSigma) {
   EXPECT_LT(std::abs(mean), 0.01);
 }
 
+TEST(Lidar3dSimulator, ASweepFiresEachColumnFromWhereTheMovingSensorIsThen) {
+  // 2 m/s and 30 deg/s of yaw: column j's rays leave from stamp * T(j / (360 * 10 Hz)), and hit
+  // the oracle's planes from there; each point is in the sensor's frame at its own time.
+  const BoxRoom room(6.0, 5.0, 3.0, true);
+  sim::Lidar3dSpec spec;
+  spec.sigma_range = 0.0;
+  spec.azimuth_step = 2.0 * kPi / 360;
+  SweepMotion motion;
+  motion.velocity = Eigen::Vector3d(2.0, 0.0, 0.0);
+  motion.rates = Eigen::Vector3d(0.0, 0.0, 30.0 * kPi / 180.0);
+  const Pose3 stamp = pose3_from_xyz_rpy(2.2, 1.9, 1.1, 0.05, -0.08, 0.7);
+  std::mt19937 rng(1);
+  const sim::Lidar3dScan scan = sim::simulate_lidar3d_sweep(room.grid, stamp, motion, spec, rng);
+  ASSERT_EQ(scan.times.size(), scan.points.size());
+  int checked = 0;
+  for (std::size_t i = 0; i < scan.points.size(); ++i) {
+    const std::size_t j = i % 360;
+    ASSERT_DOUBLE_EQ(scan.times[i], static_cast<double>(j) / 3600.0);
+    const Pose3 sensor = stamp * motion.at(scan.times[i]);
+    const Eigen::Vector3d u = scan.points[i].normalized();
+    int near = 0;
+    const double t = room.oracle(sensor.translation(), sensor.linear() * u, 0.2, &near);
+    if (near > 1) continue;
+    EXPECT_NEAR(scan.points[i].norm(), t, 0.5 * test::kBoxRes * std::sqrt(3.0) + 1e-9) << i;
+    ++checked;
+  }
+  EXPECT_GT(checked, 5000);
+  // At rest, a sweep is the scan (same rays, same noise draws).
+  spec.sigma_range = 0.03;
+  std::mt19937 a(7), b(7);
+  const sim::Lidar3dScan still = sim::simulate_lidar3d_sweep(room.grid, stamp, {}, spec, a);
+  const sim::Lidar3dScan once = sim::simulate_lidar3d_scan(room.grid, stamp, spec, b);
+  ASSERT_EQ(still.points.size(), once.points.size());
+  for (std::size_t i = 0; i < once.points.size(); ++i)
+    EXPECT_LT((still.points[i] - once.points[i]).norm(), 1e-12) << i;
+  EXPECT_EQ(sim::lidar3d_observations(still, spec).times.size(), still.returns);
+}
+
 TEST(Lidar3dSimulator, RefusesASpecOutOfItsDomain) {
   const BoxRoom room(4.0, 4.0, 3.0, true);
   std::mt19937 rng(1);

@@ -268,6 +268,22 @@ void run_localize3d(const Localize3dArgs& a) {
   std::vector<StampedPose3> trajectory;         // the poses of the accepted statuses
   std::vector<std::string> table = {status_table_header()};
   Pose3 last = init, before_last = init;
+  double last_t = 0.0, before_last_t = 0.0;  // their stamps (constant velocity's dt)
+  // Deskewing (sensor/sweep_motion.hpp): said once, from the first scan's time field.
+  bool said_times = false;
+  const auto say_times = [&](const std::string& field) {
+    if (said_times || a.quiet) return;
+    said_times = true;
+    if (field.empty()) {
+      std::fprintf(stderr,
+                   "[localize3d] the clouds have no per-point time field (time, t, offset_time, "
+                   "timestamp): each sweep is taken as instantaneous, not deskewed\n");
+    } else {
+      std::fprintf(stderr, "[localize3d] per-point times from field '%s': %s\n", field.c_str(),
+                   lo.deskew ? "each sweep deskewed by the predicted motion"
+                             : "not used (localize3d.deskew: false)");
+    }
+  };
   std::size_t accepted = 0, refused = 0, lost = 0;
   std::size_t count = 0;
   std::vector<double> scan_ms;  // each scan's reading and solve: the summary's median, p99, max
@@ -294,6 +310,7 @@ void run_localize3d(const Localize3dArgs& a) {
     } else {
       OdometryStep3 motion;  // constant velocity unless the input has odometry
       motion.delta = before_last.inverse() * last;
+      motion.dt = accepted > 1 ? last_t - before_last_t : 0.0;  // 0: no velocity known yet
       if (odometry) motion = *odometry;
       r.result = tracker.update(motion, obs);
       r.explained = r.result.explained;
@@ -304,7 +321,9 @@ void run_localize3d(const Localize3dArgs& a) {
     scan_ms.push_back(read_ms + r.solve_ms);
     if (r.result.status == LocalizationStatus::kConverged) {
       before_last = accepted == 0 ? r.result.pose : last;
+      before_last_t = accepted == 0 ? t : last_t;
       last = r.result.pose;
+      last_t = t;
       ++accepted;
     } else {
       ++refused;
@@ -339,8 +358,18 @@ void run_localize3d(const Localize3dArgs& a) {
   };
   for (std::size_t k = 0; k < scans.size(); ++k) {
     const auto t0 = std::chrono::steady_clock::now();
-    const pcl::PointCloud<pcl::PointXYZ> cloud = read_point_cloud(scans[k]);
-    const ObservationSet3 obs = observations_from_cloud(cloud, co);
+    PointTimes times;
+    const pcl::PointCloud<pcl::PointXYZ> cloud = read_point_cloud(scans[k], &times);
+    if (times.absolute) {  // seconds after the scan's stamp: its name's (when it is a time of
+      // this sweep, within 1 s of its readings), else its first reading's
+      double first = std::numeric_limits<double>::infinity();
+      for (const double t : times.seconds) first = std::min(first, t);
+      const std::optional<double> named = stamp_of_name(scans[k]);
+      const double stamp = named && std::abs(*named - first) < 1.0 ? *named : first;
+      for (double& t : times.seconds) t -= stamp;
+    }
+    say_times(times.field);
+    const ObservationSet3 obs = observations_from_cloud(cloud, co, times.seconds);
     const double read_ms =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     handle(scans[k], stamp_of(scans[k], k), obs, cloud.size(), read_ms, std::nullopt);
@@ -367,7 +396,8 @@ void run_localize3d(const Localize3dArgs& a) {
                                           static_cast<float>(p.z())));
           CloudObservationOptions fo = co;
           fo.sensor_in_robot = f.mount;
-          const ObservationSet3 obs = observations_from_cloud(cloud, fo);
+          say_times(f.cloud.time_field);
+          const ObservationSet3 obs = observations_from_cloud(cloud, fo, f.cloud.times);
           const double read_ms =
               std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
                   .count();

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdint>
 #include <sstream>
+#include <string>
 #include <unordered_map>
 #include <vector>
 
@@ -43,7 +44,16 @@ std::uint64_t cube_key(const Eigen::Vector3d& q, double inv_voxel) {
 
 ObservationSet3 observations_from_cloud(const pcl::PointCloud<pcl::PointXYZ>& cloud,
                                         const CloudObservationOptions& options) {
+  return observations_from_cloud(cloud, options, {});
+}
+
+ObservationSet3 observations_from_cloud(const pcl::PointCloud<pcl::PointXYZ>& cloud,
+                                        const CloudObservationOptions& options,
+                                        const std::vector<double>& times) {
   check(options);
+  VDTNAV_CHECK(times.empty() || times.size() == cloud.size(),
+               "observations_from_cloud: " + std::to_string(times.size()) + " times for " +
+                   std::to_string(cloud.size()) + " points");
   ObservationSet3 out;
   out.sigma_range = options.sigma_range;
   out.range_max = options.range_max;
@@ -54,7 +64,7 @@ ObservationSet3 observations_from_cloud(const pcl::PointCloud<pcl::PointXYZ>& cl
   valid.reserve(cloud.size());
   for (std::size_t i = 0; i < cloud.size(); ++i) {
     const Eigen::Vector3d q = cloud[i].getVector3fMap().cast<double>();
-    if (!q.allFinite()) {
+    if (!q.allFinite() || (!times.empty() && !std::isfinite(times[i]))) {
       ++out.dropped_not_finite;
       continue;
     }
@@ -112,6 +122,7 @@ ObservationSet3 observations_from_cloud(const pcl::PointCloud<pcl::PointXYZ>& cl
     out.directions.push_back(rotation * (ray / range));
     out.ranges.push_back(range);
     out.beam.push_back(i);
+    if (!times.empty()) out.times.push_back(times[i]);
   }
   return out;
 }

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "vdtnav/core/error.hpp"
+#include "vdtnav/core/point_time_fields.hpp"
 
 namespace vdtnav::detail {
 namespace {
@@ -49,11 +50,11 @@ bool parse_double(std::string_view s, double& v) {
   return !s.empty() && r.ec == std::errc() && r.ptr == s.data() + s.size();
 }
 
-/// A cloud of float64 x, y, z fields holding `points` (3 numbers per point).
-pcl::PCLPointCloud2 xyz_cloud(const std::vector<double>& xyz) {
+/// A cloud of float64 fields `names` holding `values` (names.size() numbers per point).
+pcl::PCLPointCloud2 float64_cloud(const std::vector<std::string>& names,
+                                  const std::vector<double>& values) {
   pcl::PCLPointCloud2 cloud;
-  const char* names[3] = {"x", "y", "z"};
-  for (int c = 0; c < 3; ++c) {
+  for (std::size_t c = 0; c < names.size(); ++c) {
     pcl::PCLPointField f;
     f.name = names[c];
     f.offset = static_cast<std::uint32_t>(c * sizeof(double));
@@ -62,37 +63,44 @@ pcl::PCLPointCloud2 xyz_cloud(const std::vector<double>& xyz) {
     cloud.fields.push_back(f);
   }
   cloud.height = 1;
-  cloud.width = static_cast<std::uint32_t>(xyz.size() / 3);
-  cloud.point_step = 3 * sizeof(double);
+  cloud.width = static_cast<std::uint32_t>(values.size() / names.size());
+  cloud.point_step = static_cast<std::uint32_t>(names.size() * sizeof(double));
   cloud.row_step = cloud.point_step * cloud.width;
   cloud.is_dense = false;
-  cloud.data.resize(xyz.size() * sizeof(double));
-  if (!xyz.empty()) std::memcpy(cloud.data.data(), xyz.data(), cloud.data.size());
+  cloud.data.resize(values.size() * sizeof(double));
+  if (!values.empty()) std::memcpy(cloud.data.data(), values.data(), cloud.data.size());
   return cloud;
 }
 
+pcl::PCLPointCloud2 xyz_cloud(const std::vector<double>& xyz) {
+  return float64_cloud({"x", "y", "z"}, xyz);
+}
+
 /// Text points, one per line: x y z first (or the columns a header names x, y, z), separated by
-/// commas, semicolons or blanks; '#' lines and blank lines skipped.
+/// commas, semicolons or blanks; '#' lines and blank lines skipped. A header may also name a
+/// per-point time column (core/point_time_fields.hpp), kept as a float64 field of that name.
 pcl::PCLPointCloud2 read_text_cloud(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw IoError(path + ": cannot open point cloud: " + std::strerror(errno));
-  std::vector<double> xyz;
+  std::vector<double> values;
   std::vector<std::string_view> fields;
   std::string line;
   std::size_t line_no = 0;
   bool first = true;
-  int column[3] = {0, 1, 2};
+  int column[4] = {0, 1, 2, -1};  // x, y, z, the time (-1: none)
+  std::string time_name;
   int needed = 3;
   while (std::getline(in, line)) {
     ++line_no;
     const std::size_t start = line.find_first_not_of(" \t\r");
     if (start == std::string::npos || line[start] == '#') continue;
     split_fields(line, fields);
-    double v[3];
+    const int count = column[3] >= 0 ? 4 : 3;
+    double v[4];
     bool numbers = fields.size() >= static_cast<std::size_t>(needed);
-    for (int c = 0; c < 3 && numbers; ++c)
+    for (int c = 0; c < count && numbers; ++c)
       numbers = parse_double(fields[static_cast<std::size_t>(column[c])], v[c]);
-    if (!numbers && first) {  // a header: find the columns named x, y, z
+    if (!numbers && first) {  // a header: find the columns named x, y, z (and a time)
       first = false;
       bool named = true;
       needed = 0;
@@ -108,20 +116,31 @@ pcl::PCLPointCloud2 read_text_cloud(const std::string& path) {
                           "expected a header naming the columns x, y and z, or three numbers "
                           "x y z (separated by commas or blanks)");
       }
+      for (const PointTimeField& tf : kPointTimeFields) {
+        const auto it = std::find(fields.begin(), fields.end(), std::string_view(tf.name));
+        if (it == fields.end()) continue;
+        column[3] = static_cast<int>(it - fields.begin());
+        needed = std::max(needed, column[3] + 1);
+        time_name = tf.name;
+        break;
+      }
       continue;
     }
     first = false;
     if (!numbers) {
       throw FormatError(path, line_no,
-                        "expected the numbers x y z in columns " + std::to_string(column[0] + 1) +
-                            ", " + std::to_string(column[1] + 1) + ", " +
-                            std::to_string(column[2] + 1) + " (separated by commas or blanks)");
+                        "expected the numbers x y z" + (count == 4 ? " " + time_name : "") +
+                            " in columns " + std::to_string(column[0] + 1) + ", " +
+                            std::to_string(column[1] + 1) + ", " + std::to_string(column[2] + 1) +
+                            (count == 4 ? ", " + std::to_string(column[3] + 1) : "") +
+                            " (separated by commas or blanks)");
     }
-    xyz.insert(xyz.end(), v, v + 3);
+    values.insert(values.end(), v, v + count);
   }
   if (in.bad()) throw IoError(path + ": cannot read point cloud: " + std::strerror(errno));
-  if (xyz.empty()) throw FormatError(path, 0, "the cloud has no points");
-  return xyz_cloud(xyz);
+  if (values.empty()) throw FormatError(path, 0, "the cloud has no points");
+  if (time_name.empty()) return xyz_cloud(values);
+  return float64_cloud({"x", "y", "z", time_name}, values);
 }
 
 /// A legacy ASCII VTK file's POINTS section (any DATASET; cells and attributes ignored).

@@ -8,74 +8,16 @@
 #include <optional>
 
 #include "vdtnav/core/error.hpp"
+#include "vdtnav/core/point_field.hpp"
+#include "vdtnav/core/point_time_fields.hpp"
 
 namespace vdtnav::ros {
 
 namespace {
 
-// sensor_msgs/PointField datatypes.
-enum : std::uint8_t {
-  kInt8 = 1,
-  kUint8 = 2,
-  kInt16 = 3,
-  kUint16 = 4,
-  kInt32 = 5,
-  kUint32 = 6,
-  kFloat32 = 7,
-  kFloat64 = 8
-};
-
-std::size_t size_of(std::uint8_t type) {
-  switch (type) {
-    case kInt8:
-    case kUint8:
-      return 1;
-    case kInt16:
-    case kUint16:
-      return 2;
-    case kInt32:
-    case kUint32:
-    case kFloat32:
-      return 4;
-    case kFloat64:
-      return 8;
-    default:
-      return 0;
-  }
-}
-
-template <typename T>
-T load(const std::uint8_t* p) {
-  T v;
-  std::memcpy(&v, p, sizeof v);
-  return v;
-}
-
-/// The value of a field at p as a double (little-endian, checked by the caller).
-double value(const std::uint8_t* p, std::uint8_t type) {
-  switch (type) {
-    case kInt8:
-      return load<std::int8_t>(p);
-    case kUint8:
-      return load<std::uint8_t>(p);
-    case kInt16:
-      return load<std::int16_t>(p);
-    case kUint16:
-      return load<std::uint16_t>(p);
-    case kInt32:
-      return load<std::int32_t>(p);
-    case kUint32:
-      return load<std::uint32_t>(p);
-    case kFloat32:
-      return load<float>(p);
-    case kFloat64:
-      return load<double>(p);
-    default:
-      return std::nan("");
-  }
-}
-
-bool is_float(std::uint8_t type) { return type == kFloat32 || type == kFloat64; }
+using point_field::is_float;
+using point_field::size_of;
+using point_field::value;
 
 }  // namespace
 
@@ -121,10 +63,10 @@ CloudPoints cloud_points(const PointCloud2Msg& m, const std::string& source) {
   CloudPoints out;
   std::optional<PointFieldMsg> ft, fsec, fnsec;
   bool absolute = false;
-  for (const char* name : {"time", "t", "offset_time", "timestamp"}) {
-    if ((ft = field(name))) {
-      out.time_field = name;
-      absolute = out.time_field == "timestamp";
+  for (const PointTimeField& tf : kPointTimeFields) {  // core/point_time_fields.hpp
+    if ((ft = field(tf.name))) {
+      out.time_field = tf.name;
+      absolute = tf.absolute;
       break;
     }
   }
@@ -148,8 +90,8 @@ CloudPoints cloud_points(const PointCloud2Msg& m, const std::string& source) {
       }
       out.points.push_back(q);
       if (ft) {
-        double t = value(p + ft->offset, ft->datatype);
-        if (!is_float(ft->datatype)) t *= 1e-9;  // integer times are nanoseconds
+        const double t = point_time_seconds(value(p + ft->offset, ft->datatype),
+                                            !is_float(ft->datatype), absolute);
         out.times.push_back(absolute ? t - header_s : t);
       } else if (fsec) {
         // Absolute seconds + nanoseconds: subtract the header's in integers, then scale.

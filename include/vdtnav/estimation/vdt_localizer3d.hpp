@@ -66,6 +66,16 @@ struct VdtLocalizer3Options {
   /// The IMU's roll and pitch noise (1 sigma), radians, for odometry steps that carry them
   /// (OdometryStep3::has_attitude): a consumer-grade AHRS, ~0.3 degrees.
   double sigma_imu_attitude = 0.005;
+  /// Deskew scans whose readings carry times (ObservationSet3::times) at constant velocity
+  /// (sensor/sweep_motion.hpp): first by the predicted motion (the odometry increment over its
+  /// dt), then by the motion from the previous estimate to this scan's solution, solved again
+  /// (deskew_passes in all, fewer when the motion settles within 1 mm over the sweep); false:
+  /// every scan is taken as instantaneous.
+  bool deskew = true;
+  /// Solves per deskewed scan (>= 1). The refinement matters when the prediction's velocity is
+  /// poor (constant velocity from two estimates the sweep distorted): each pass divides the
+  /// velocity's error by about dt / (half the sweep), 2 at 10 Hz.
+  int deskew_passes = 3;
   /// 4-DOF without an IMU: the held roll and pitch's standard deviation (radians), when the user
   /// knows it (`vdtnav localize3d --attitude-sigma`); NaN (the default): not estimated, NaN rows
   /// and columns in the reported covariance (see the file comment).
@@ -114,6 +124,8 @@ class VdtOptimizationLocalizer3 final : public Localizer3D {
   VdtOptimizationLocalizer3(const VdtOptimizer3& shared, const VdtLocalizer3Options& options);
 
   void reset(const Pose3& pose, const Matrix6d& covariance) override;
+  /// \brief Predicts with `odometry`, deskews a scan whose readings carry times by that motion
+  /// (options().deskew, sensor/sweep_motion.hpp), solves and accepts or refuses.
   [[nodiscard]] LocalizationResult3 update(const OdometryStep3& odometry,
                                            const ObservationSet3& observations) override;
   [[nodiscard]] std::string name() const override;
@@ -130,6 +142,10 @@ class VdtOptimizationLocalizer3 final : public Localizer3D {
                                             const LocalizationResult3& r, double sigma) const;
 
  private:
+  /// update() on a scan already deskewed (or taken as instantaneous).
+  [[nodiscard]] LocalizationResult3 update_with(const OdometryStep3& odometry,
+                                                const ObservationSet3& observations);
+
   VdtLocalizer3Options options_;
   VdtOptimizer3 optimizer_;
   VdtOptimizer3 full_;  ///< the 6-DOF twin (shared pyramid): its sensor model gives the Hessian

@@ -39,7 +39,10 @@ struct ObservationSet {
   std::vector<Vector> directions;  ///< dp/dr (unit beam directions), robot frame
   std::vector<double> ranges;      ///< the ranges kept
   std::vector<std::size_t> beam;   ///< index of each kept reading in the source
-  double sigma_range = 0.0;        ///< range noise standard deviation, metres
+  /// Seconds after the scan's stamp at which each reading was taken (a spinning LiDAR's sweep);
+  /// empty: the readings are simultaneous (deskewing: sweep_motion.hpp).
+  std::vector<double> times;
+  double sigma_range = 0.0;  ///< range noise standard deviation, metres
   double range_max = std::numeric_limits<double>::infinity();  ///< sensor's no-return range, m
   std::size_t dropped_not_finite = 0;                          ///< NaN or inf readings
   std::size_t dropped_out_of_range = 0;  ///< outside the sensor's valid range interval
@@ -96,6 +99,7 @@ struct ObservationSet {
       out.directions.push_back(directions[i]);
       out.ranges.push_back(ranges[i]);
       out.beam.push_back(beam[i]);
+      if (!times.empty()) out.times.push_back(times[i]);
       if (!point_covariances.empty()) out.point_covariances.push_back(point_covariances[i]);
       if (!shared_jacobians.empty()) out.shared_jacobians.push_back(shared_jacobians[i]);
     }

@@ -8,8 +8,9 @@
 /// sensor's origin along u(a, e) = (cos e cos a, cos e sin a, sin e) (sensor frame) stops at the
 /// surface of the first occupied voxel it meets (RaySurface::kCellCentre: where the VDT of the same
 /// grid is zero); the range gets N(0, sigma_range^2) noise. Rays with no return within range_max
-/// give NaN points, as drivers write them into organized clouds. The whole turn is taken at one
-/// pose (no motion distortion within the 0.1 s sweep).
+/// give NaN points, as drivers write them into organized clouds. simulate_lidar3d_scan takes the
+/// whole turn at one pose; simulate_lidar3d_sweep moves the sensor during it (motion distortion,
+/// what deskewing undoes: sensor/sweep_motion.hpp).
 
 #include <cstddef>
 #include <random>
@@ -20,6 +21,7 @@
 #include "vdtnav/core/pose3.hpp"
 #include "vdtnav/map/grid.hpp"
 #include "vdtnav/sensor/observation_set.hpp"
+#include "vdtnav/sensor/sweep_motion.hpp"
 #include "vdtnav/sim/ray_casting.hpp"
 
 namespace vdtnav::sim {
@@ -44,6 +46,9 @@ struct Lidar3dSpec {
 /// k * rays_per_ring + j is ring k, azimuth j * azimuth_step); NaN where nothing returned.
 struct Lidar3dScan {
   std::vector<Eigen::Vector3d> points;
+  /// Seconds after the stamp at which each point was taken (simulate_lidar3d_sweep); empty: the
+  /// turn was taken at one pose.
+  std::vector<double> times;
   std::size_t returns = 0;  ///< finite points
 };
 
@@ -53,9 +58,20 @@ struct Lidar3dScan {
                                                 const Pose3& sensor_in_world,
                                                 const Lidar3dSpec& spec, std::mt19937& rng);
 
+/// \brief One turn from a moving sensor: the rays of azimuth column j fire
+/// τ_j = j / (rays_per_ring · rate_hz) seconds after the stamp from
+/// sensor_at_stamp · motion.at(τ_j) (sweep_motion.hpp (1)); each point is in the sensor's frame at
+/// its own time, as a driver writes it, with `times` set.
+/// \throws ConfigError for a spec out of its domain.
+[[nodiscard]] Lidar3dScan simulate_lidar3d_sweep(const OccupancyGrid<3>& map,
+                                                 const Pose3& sensor_at_stamp,
+                                                 const SweepMotion& motion, const Lidar3dSpec& spec,
+                                                 std::mt19937& rng);
+
 /// \brief The scan's returns as observations in the sensor's frame (beams from its origin, the
 /// spec's range noise), `beam` the ray index; the no-return rays left out. What the tests and
-/// benchmarks feed the 3D localizers; a program reading real clouds goes through
+/// benchmarks feed the 3D localizers (with each reading's time when the scan has them); a program
+/// reading real clouds goes through
 /// observations_from_cloud (vdtnav::pcl) instead.
 [[nodiscard]] ObservationSet3 lidar3d_observations(const Lidar3dScan& scan,
                                                    const Lidar3dSpec& spec);

@@ -76,6 +76,43 @@ TEST(PointCloudFile, KeepsAPcdViewpointAsTheSensorOrigin) {
   EXPECT_EQ(r.sensor_origin_.head<3>(), Eigen::Vector3f(0.5f, -1.0f, 2.0f));
 }
 
+TEST(PointCloudFile, ReadsEachPointsTimeAsTheDriversWriteIt) {
+  // Ouster: `t`, uint32 nanoseconds after the stamp (binary PCD, the field after x y z).
+  const std::string ouster =
+      tmp_file("ouster.pcd",
+               "VERSION 0.7\nFIELDS x y z t\nSIZE 4 4 4 4\nTYPE F F F U\nCOUNT 1 1 1 1\nWIDTH 3\n"
+               "HEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS 3\nDATA ascii\n1 0 0 0\n0 1 0 50000000\n"
+               "0 0 1 99999999\n");
+  PointTimes t;
+  expect_points(read_point_cloud(ouster, &t), {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}});
+  EXPECT_EQ(t.field, "t");
+  EXPECT_FALSE(t.absolute);
+  ASSERT_EQ(t.seconds.size(), 3u);
+  EXPECT_DOUBLE_EQ(t.seconds[1], 0.05);
+  EXPECT_DOUBLE_EQ(t.seconds[2], 0.099999999);
+  // Velodyne as text: a `time` column in seconds (may be negative: before the stamp).
+  (void)read_point_cloud(
+      tmp_file("velodyne.csv", "x,y,z,intensity,time\n1,2,3,7,-0.0125\n4,5,6,9,0\n"), &t);
+  EXPECT_EQ(t.field, "time");
+  EXPECT_EQ(t.seconds, (std::vector<double>{-0.0125, 0.0}));
+  // Livox: `timestamp`, absolute nanoseconds in a float64.
+  (void)read_point_cloud(
+      tmp_file("livox.pcd",
+               "VERSION 0.7\nFIELDS x y z timestamp\nSIZE 4 4 4 8\nTYPE F F F F\n"
+               "COUNT 1 1 1 1\nWIDTH 2\nHEIGHT 1\nPOINTS 2\nDATA ascii\n"
+               "1 0 0 1700000000000000000\n0 1 0 1700000000050000000\n"),
+      &t);
+  EXPECT_EQ(t.field, "timestamp");
+  EXPECT_TRUE(t.absolute);
+  ASSERT_EQ(t.seconds.size(), 2u);
+  EXPECT_NEAR(t.seconds[1] - t.seconds[0], 0.05, 1e-6);
+  EXPECT_NEAR(t.seconds[0], 1.7e9, 1.0);
+  // No time field: empty.
+  (void)read_point_cloud(tmp_file("none.xyz", "1 2 3\n"), &t);
+  EXPECT_TRUE(t.seconds.empty());
+  EXPECT_EQ(t.field, "");
+}
+
 TEST(PointCloudFile, SaysWhichFileAndLineAndWhatWasExpected) {
   const std::string bad = tmp_file("bad.csv", "x,y,z\n1,2,3\n4,5\n");
   EXPECT_EQ(error_of([&] { (void)read_point_cloud(bad); }),

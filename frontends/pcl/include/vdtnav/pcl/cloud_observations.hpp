@@ -10,6 +10,7 @@
 /// robot frame, so that the point's covariance is sigma_r^2 (R u)(R u)^T (observation_set.hpp).
 
 #include <limits>
+#include <vector>
 
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>
@@ -43,6 +44,15 @@ struct CloudObservationOptions {
 /// \throws ConfigError when an option is out of its domain (the message names it).
 [[nodiscard]] ObservationSet3 observations_from_cloud(const pcl::PointCloud<pcl::PointXYZ>& cloud,
                                                       const CloudObservationOptions& options = {});
+
+/// \brief As above, each kept reading with its time: `times[i]`, seconds after the scan's stamp,
+/// for point i of the cloud (PointTimes, point_cloud_file.hpp; a PointCloud2's, ros/cloud_points),
+/// into ObservationSet3::times for deskewing (a reading whose time is not finite is dropped and
+/// counted in `dropped_not_finite`). Empty `times`: as above (an instantaneous sweep).
+/// \throws ConfigError as above, and when `times` is neither empty nor one per point.
+[[nodiscard]] ObservationSet3 observations_from_cloud(const pcl::PointCloud<pcl::PointXYZ>& cloud,
+                                                      const CloudObservationOptions& options,
+                                                      const std::vector<double>& times);
 
 /// \return the observation points as a cloud in the robot frame (to view or save with PCL).
 [[nodiscard]] pcl::PointCloud<pcl::PointXYZ> to_cloud(const ObservationSet3& observations);

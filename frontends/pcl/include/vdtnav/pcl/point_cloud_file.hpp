@@ -3,6 +3,7 @@
 /// \brief Point cloud files as pcl::PointCloud<pcl::PointXYZ>: the formats 3D LiDAR users have.
 
 #include <string>
+#include <vector>
 
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>
@@ -23,5 +24,18 @@ namespace vdtnav {
 /// \throws FormatError (`file:line: what was expected`) when the extension is unknown, the file
 ///         cannot be parsed, it has no x, y, z coordinates or no point.
 [[nodiscard]] pcl::PointCloud<pcl::PointXYZ> read_point_cloud(const std::string& path);
+
+/// \brief The per-point times a cloud file holds: a field (PCD, PLY) or a header-named column
+/// (text) among core/point_time_fields.hpp's, read as it says.
+struct PointTimes {
+  std::vector<double> seconds;  ///< one per point, in the cloud's order; empty: no time field
+  std::string field;            ///< the field read ("": none)
+  bool absolute = false;  ///< seconds since an epoch (subtract the scan's stamp), else after it
+};
+
+/// \brief read_point_cloud() that also reads each point's time into `times` (if not null).
+/// \throws as read_point_cloud(), and FormatError when the time field's type is unknown.
+[[nodiscard]] pcl::PointCloud<pcl::PointXYZ> read_point_cloud(const std::string& path,
+                                                              PointTimes* times);
 
 }  // namespace vdtnav

@@ -4,9 +4,8 @@
 /// by name (FLOAT32 or FLOAT64), any point_step and row_step, organized (height > 1) or not;
 /// points with a non-finite coordinate dropped and counted; big-endian data refused. A per-point
 /// time is kept (for deskewing) when the cloud has one of the fields drivers write:
-/// `time` / `t` / `offset_time` (relative: seconds as FLOAT32/FLOAT64, nanoseconds as an
-/// integer type) or `timestamp` / `time_sec` + `time_nsec` (absolute), always returned in seconds
-/// relative to the header stamp.
+/// `time` / `t` / `offset_time` (relative) or `timestamp` / `time_sec` + `time_nsec` (absolute),
+/// read as core/point_time_fields.hpp says and returned in seconds relative to the header stamp.
 
 #include <cstddef>
 #include <string>
