@@ -10,6 +10,7 @@
 #include "vdtnav/core/error.hpp"
 #include "vdtnav/core/parallel.hpp"
 #include "vdtnav/core/pose2.hpp"
+#include "vdtnav/estimation/global_decision.hpp"
 #include "vdtnav/estimation/guess_search.hpp"
 
 namespace vdtnav {
@@ -461,52 +462,16 @@ GlobalLocalizationResult GlobalLocalizer::localize_random(const ScanPoints& scan
 
 GlobalLocalizationResult GlobalLocalizer::decide(const ScanPoints& scan,
                                                  const std::vector<Pose2>& starts) const {
+  GlobalDecision<2> d = refine_and_decide<2>(
+      optimizer_, scan, starts,
+      {options_.truncation, options_.explained_distance, options_.accept_fraction,
+       options_.ambiguity_margin},
+      [&](const Pose2& a, const Pose2& b) { return distinct(a, b, options_); });
   GlobalLocalizationResult out;
-  struct Refined {
-    LocalizationResult result;
-    double score = 0.0, explained = 0.0;
-  };
-  const VdtSensorModel& model = optimizer_.sensor_model();
-  // The starts refined on the pool's threads, each into its own place, kept in order.
-  std::vector<Refined> solved(starts.size());
-  parallel_for(starts.size(), [&](std::size_t k) {
-    Refined& f = solved[k];
-    f.result = optimizer_.solve(scan, starts[k]);
-    if (f.result.status == LocalizationStatus::kNotConverged) {
-      // Stopped at its iteration limit from a start a cell and a heading step away: once more.
-      const int spent = f.result.iterations;
-      f.result = optimizer_.solve(scan, f.result.pose);
-      f.result.iterations += spent;
-    }
-    if (f.result.status == LocalizationStatus::kDiverged) return;
-    f.score = truncated_vcd(model, scan, f.result.pose, options_.truncation);
-    f.explained = explained_fraction(model, scan, f.result.pose, options_.explained_distance);
-  });
-  std::vector<Refined> refined;
-  for (Refined& f : solved) {
-    if (f.result.status != LocalizationStatus::kDiverged) refined.push_back(std::move(f));
-  }
-  if (refined.empty()) {
-    out.result.status = LocalizationStatus::kRefused;
-    return out;
-  }
-  std::sort(refined.begin(), refined.end(),
-            [](const Refined& a, const Refined& b) { return a.score < b.score; });
-  const Refined& best = refined.front();
-  out.result = best.result;
-  out.explained = best.explained;
-  for (std::size_t k = 1; k < refined.size(); ++k) {
-    const Refined& alt = refined[k];
-    if (!distinct(alt.result.pose, best.result.pose, options_)) continue;
-    if (alt.explained >= options_.accept_fraction &&
-        alt.explained >= best.explained - options_.ambiguity_margin) {
-      out.ambiguous = true;
-      out.alternatives.push_back(alt.result.pose);
-    }
-  }
-  if (best.explained < options_.accept_fraction || out.ambiguous) {
-    out.result.status = LocalizationStatus::kRefused;
-  }
+  out.result = std::move(d.result);
+  out.ambiguous = d.ambiguous;
+  out.alternatives = std::move(d.alternatives);
+  out.explained = d.explained;
   return out;
 }
 
