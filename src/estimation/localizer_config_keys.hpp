@@ -242,13 +242,11 @@ void visit(V& v, ActiveBeamLocalizerOptions& o) {
             [&](V& s) { visit(s, o.ekf); });
 }
 
-template <typename V>
-void visit(V& v, GlobalLocalizationOptions& o) {
-  v.number("truncation", o.truncation, "m", "tau: a reading farther from the map counts tau^2");
-  v.integer("max_readings", o.max_readings, "count", "readings scored, evenly over the scan");
-  v.number("angular_step", o.angular_step, "rad",
-           "between headings; <= 0: resolution / the scan's 90th-percentile range");
-  v.integer("levels", o.levels, "count", "coarsest box 2^levels cells; < 0: about 3.2 m");
+/// The keys global localization shares in 2D and 3D (GlobalLocalizationOptions,
+/// GlobalLocalization3Options): the refinement of the distinct leaves and the decision
+/// (global_decision.hpp).
+template <typename V, typename Options>
+void visit_global_decision(V& v, Options& o) {
   v.integer("candidates", o.candidates, "count", "distinct leaves refined by the optimizer");
   v.number("distinct_distance", o.distinct_distance, "m", "poses this far apart are distinct");
   v.number("distinct_angle", o.distinct_angle, "rad", "poses this much turned are distinct");
@@ -260,6 +258,16 @@ void visit(V& v, GlobalLocalizationOptions& o) {
            "the refined best must explain this much of the scan");
   v.number("ambiguity_margin", o.ambiguity_margin, "fraction",
            "a distinct alternative explaining within this of the best: ambiguous, refused");
+}
+
+template <typename V>
+void visit(V& v, GlobalLocalizationOptions& o) {
+  v.number("truncation", o.truncation, "m", "tau: a reading farther from the map counts tau^2");
+  v.integer("max_readings", o.max_readings, "count", "readings scored, evenly over the scan");
+  v.number("angular_step", o.angular_step, "rad",
+           "between headings; <= 0: resolution / the scan's 90th-percentile range");
+  v.integer("levels", o.levels, "count", "coarsest box 2^levels cells; < 0: about 3.2 m");
+  visit_global_decision(v, o);
 }
 
 template <typename V>

@@ -5,6 +5,7 @@
 // mode is not a key (--dof chooses it).
 
 #include "localizer_config_keys.hpp"
+#include "vdtnav/estimation/global_localization3d.hpp"
 #include "vdtnav/estimation/multi_start.hpp"
 #include "vdtnav/estimation/vdt_localizer3d.hpp"
 
@@ -40,6 +41,44 @@ void visit(V& v, MultiStartOptions& o) {
 }
 
 template <typename V>
+void visit(V& v, ImuNoise& o) {
+  v.number("gyro_noise_density", o.gyro_noise_density, "rad/s/sqrt(Hz)",
+           "gyro white noise (default: the Bosch BMI088's data sheet, 0.014 deg/s/sqrt(Hz))");
+  v.number("accel_noise_density", o.accel_noise_density, "m/s^2/sqrt(Hz)",
+           "accelerometer white noise (BMI088: 175 ug/sqrt(Hz))");
+  v.number("gyro_bias_x", o.gyro_bias.x(), "rad/s", "known gyro bias, subtracted (x axis)");
+  v.number("gyro_bias_y", o.gyro_bias.y(), "rad/s", "known gyro bias, subtracted (y axis)");
+  v.number("gyro_bias_z", o.gyro_bias.z(), "rad/s", "known gyro bias, subtracted (z axis)");
+  v.number("accel_bias_x", o.accel_bias.x(), "m/s^2", "known accelerometer bias, subtracted");
+  v.number("accel_bias_y", o.accel_bias.y(), "m/s^2", "known accelerometer bias, subtracted");
+  v.number("accel_bias_z", o.accel_bias.z(), "m/s^2", "known accelerometer bias, subtracted");
+  v.number("gyro_bias_sigma", o.gyro_bias_sigma, "rad/s",
+           "1 sigma per axis of the gyro bias left after subtraction (constant over a window)");
+  v.number("accel_bias_sigma", o.accel_bias_sigma, "m/s^2",
+           "1 sigma per axis of the accelerometer bias left after subtraction");
+  v.number("gravity", o.gravity, "m/s^2", "magnitude of gravity");
+}
+
+template <typename V>
+void visit(V& v, GlobalLocalization3Options& o) {
+  v.number("truncation", o.truncation, "m", "tau: a reading farther from the map counts tau^2");
+  v.integer("max_readings", o.max_readings, "count", "readings scored, evenly over the scan");
+  v.number("resolution", o.resolution, "m",
+           "the search grid's edge; <= 0: the map's, at least 0.1 m and at most 2^25 cells");
+  v.number("angular_step", o.angular_step, "rad",
+           "between headings; <= 0: the edge / the scan's 90th-percentile range, in [0.5, 3] "
+           "degrees");
+  v.integer("levels", o.levels, "count", "coarsest cube 2^levels cells; < 0: about 3.2 m");
+  v.number("clearance", o.clearance, "m", "the sensor is not placed nearer the map's surfaces");
+  v.number_or_nan("min_z", o.min_z, "m",
+                  "lowest sensor height searched (map frame); .nan: no bound");
+  v.number_or_nan("max_z", o.max_z, "m", "highest sensor height searched; .nan: no bound");
+  v.size("max_nodes", o.max_nodes, "count",
+         "cubes scored at most; a search that reaches it decides on the leaves it has");
+  visit_global_decision(v, o);
+}
+
+template <typename V>
 void visit(V& v, VdtLocalizer3Options& o) {
   v.section("optimizer",
             "the 6-DOF (--dof 4: 4-DOF) solve, keys of vdt-opt (search and bridge are 2D "
@@ -55,6 +94,10 @@ void visit(V& v, VdtLocalizer3Options& o) {
            "odometry rotation noise per second");
   v.number("sigma_imu_attitude", o.sigma_imu_attitude, "rad",
            "the IMU's roll and pitch noise (1 sigma), for odometry that carries them");
+  v.section("imu",
+            "the IMU's rates and specific forces (--imu FILE.csv, or a bag's --imu-topic), "
+            "preintegrated between scans into the prediction and its covariance (sensor/imu.hpp)",
+            [&](V& s) { visit(s, o.imu); });
   v.flag("deskew", o.deskew,
          "move readings that carry times (a spinning LiDAR's sweep) to the scan's stamp by the "
          "predicted motion, then by the motion to the solution (sensor/sweep_motion.hpp); "
@@ -76,6 +119,13 @@ void visit(V& v, VdtLocalizer3Options& o) {
             "lost detection over a window of scans (keys of recovery:); in 3D every reading the "
             "map does not explain counts as a contradiction",
             [&](V& s) { visit(s, o.lost); });
+  v.flag("global_recovery", o.global_recovery,
+         "while lost, also search the whole map (global:) on the re-acquiring scans, and adopt a "
+         "pose it accepts");
+  v.section("global",
+            "global localization from one scan (branch and bound over x, y, z, yaw; roll and "
+            "pitch from the IMU or level), --init global and recovery; refines with optimizer:",
+            [&](V& s) { visit(s, o.global); });
 }
 
 }  // namespace vdtnav::config_keys

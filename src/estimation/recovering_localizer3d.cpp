@@ -1,6 +1,7 @@
 #include "vdtnav/estimation/recovering_localizer3d.hpp"
 
 #include <cmath>
+#include <memory>
 
 namespace vdtnav {
 namespace {
@@ -12,9 +13,9 @@ class MultiStartReacquisition final : public Reacquisition<3> {
 
   void prepare(int lost_scans) override {
     // Re-acquire on lost scans 1, 2, 4, 8 and then every 16th; between them, no multi-start.
-    const bool attempt = (lost_scans & (lost_scans - 1)) == 0 || lost_scans % 16 == 0;
+    attempt_ = lost_scans > 0 && ((lost_scans & (lost_scans - 1)) == 0 || lost_scans % 16 == 0);
     tracker_->set_starts(lost_scans == 0 ? StartSet::kAxes
-                         : attempt       ? StartSet::kAttitudeGrid
+                         : attempt_      ? StartSet::kAttitudeGrid
                                          : StartSet::kNone);
   }
 
@@ -24,15 +25,37 @@ class MultiStartReacquisition final : public Reacquisition<3> {
     return ScanAgreement::all_judged(static_cast<int>(observations.size()), r.explained);
   }
 
-  std::optional<Adopted> reacquire(const OdometryStep3&, const ObservationSet3&,
-                                   const LostDetector&, bool, LocalizationResult3&) override {
-    return std::nullopt;  // the tracker's own multi-start re-acquires (prepare)
+  std::optional<Adopted> reacquire(const OdometryStep3& odometry,
+                                   const ObservationSet3& observations, const LostDetector&, bool,
+                                   LocalizationResult3& r) override {
+    // The tracker's own multi-start ran (prepare); on the re-acquiring scans, while the track
+    // explains less than the acceptance, global localization searches the whole map too, with
+    // roll and pitch from the IMU (or the track's), and a pose it accepts is adopted.
+    const VdtLocalizer3Options& o = tracker_->options();
+    if (!attempt_ || !o.global_recovery || r.explained >= o.global.accept_fraction) {
+      return std::nullopt;
+    }
+    if (!global_) {  // built at the first loss: its pyramid costs ~1 s and ~50 MB on CATEC
+      GlobalLocalization3Options g = o.global;
+      g.optimizer = o.optimizer;
+      global_ = std::make_unique<GlobalLocalizer3>(tracker_->optimizer().sensor_model().map(), g);
+    }
+    const Eigen::Vector3d rpy = rpy_of(r.pose.linear());
+    const double roll = odometry.has_attitude() ? odometry.roll : rpy.x();
+    const double pitch = odometry.has_attitude() ? odometry.pitch : rpy.y();
+    const GlobalLocalization3Result found = global_->localize(observations, roll, pitch);
+    r.work.solves += found.result.work.solves;
+    if (found.result.status != LocalizationStatus::kConverged) return std::nullopt;
+    Adopted a{found.result, found.result.covariance};
+    return a;
   }
 
   bool doubt_refuses() const override { return false; }
 
  private:
   VdtOptimizationLocalizer3* tracker_;
+  bool attempt_ = false;
+  std::unique_ptr<GlobalLocalizer3> global_;
 };
 
 LostWatchOptions watch(const VdtLocalizer3Options& o) {

@@ -29,6 +29,8 @@ void check(const VdtLocalizer3Options& o) {
   VDTNAV_CHECK(o.accept_fraction >= 0.0 && o.accept_fraction <= 1.0,
                "localizer3d: accept_fraction must be in [0, 1]");
   o.lost.validate();
+  o.global.validate();
+  o.imu.validate();
 }
 
 /// The prediction as a prior (VdtOptimizerOptions::odometry_prior): the information of its
@@ -183,16 +185,28 @@ LocalizationResult3 VdtOptimizationLocalizer3::update_with(const OdometryStep3& 
   Pose3 guess = pose_ * odometry.delta;
   Matrix6d f = Matrix6d::Identity();
   f.topRightCorner<3, 3>() = -skew(pose_.linear() * odometry.delta.translation());
-  const Eigen::Vector2d sigmas = options_.odometry_sigmas(odometry.delta, odometry.dt);
-  const double st = sigmas[0], sr = sigmas[1];
   Matrix6d q = Matrix6d::Zero();
-  q.topLeftCorner<3, 3>().diagonal().setConstant(st * st);  // isotropic: any frame
-  q.bottomRightCorner<3, 3>().diagonal().setConstant(sr * sr);
+  if (odometry.has_covariance) {
+    // The increment's own (an IMU's): in the previous robot frame, turned into the map's,
+    // pose_ oplus(D, e) = oplus(pose_ D, (R dt, R dtheta)).
+    Matrix6d r = Matrix6d::Zero();
+    r.topLeftCorner<3, 3>() = pose_.linear();
+    r.bottomRightCorner<3, 3>() = pose_.linear();
+    q = r * odometry.covariance * r.transpose();
+  } else {
+    const Eigen::Vector2d sigmas = options_.odometry_sigmas(odometry.delta, odometry.dt);
+    const double st = sigmas[0], sr = sigmas[1];
+    q.topLeftCorner<3, 3>().diagonal().setConstant(st * st);  // isotropic: any frame
+    q.bottomRightCorner<3, 3>().diagonal().setConstant(sr * sr);
+  }
   Matrix6d predicted = f * covariance_ * f.transpose() + q;
   const bool four_dof = optimizer_.options().four_dof;
-  // The held attitude's sigma: the IMU's, else (4-DOF) the user's or none (NaN).
-  const double held_sigma =
-      odometry.has_attitude() ? options_.sigma_imu_attitude : options_.held_attitude_sigma;
+  // The held attitude's sigma: the IMU's (the step's own, else the setting), else (4-DOF) the
+  // user's or none (NaN).
+  const double held_sigma = odometry.has_attitude()
+                                ? (std::isnan(odometry.attitude_sigma) ? options_.sigma_imu_attitude
+                                                                       : odometry.attitude_sigma)
+                                : options_.held_attitude_sigma;
   if (odometry.has_attitude()) {
     const Eigen::Vector3d rpy = rpy_of(guess.linear());
     guess.linear() = pose3_from_xyz_rpy(0, 0, 0, odometry.roll, odometry.pitch, rpy.z()).linear();

@@ -314,6 +314,53 @@ TEST(VdtLocalizer3, ATeleportIsReportedLostAndNoWrongPoseConverged) {
   EXPECT_GE(alone_refused, 10);
 }
 
+TEST(RecoveringLocalizer3, ATeleportedRobotIsFoundAgainByGlobalLocalizationAndNotWithoutIt) {
+  // Carried 3.5 m sideways and turned 90 degrees, beyond the attitude grid around the prediction:
+  // recovery's global search (localize3d.global_recovery, the default) finds the robot on the
+  // re-acquiring scans and the tracker goes on from there; without it the robot stays lost.
+  const Drive& d = drive();
+  VdtLocalizer3Options with;
+  VdtLocalizer3Options without = with;
+  without.global_recovery = false;
+  RecoveringLocalizer3 a(*d.map, with);
+  RecoveringLocalizer3 b(a.tracker().optimizer(), without);
+  std::mt19937 rng(6);
+  a.reset(d.truth[0], start_covariance());
+  b.reset(d.truth[0], start_covariance());
+  const Pose3 carry = pose3_from_xyz_rpy(0.0, 3.5, 0.0, 0.0, 0.0, kPi / 2);
+  int found_after = -1, found_without = 0, wrong = 0;
+  for (std::size_t k = 1; k < 50; ++k) {
+    const bool moved = k >= 15;
+    // The teleport: about the robot's own position (the room's free space holds both).
+    Pose3 where = d.truth[k];
+    if (moved) {
+      where.translation() += carry.translation();
+      where.linear() = carry.linear() * where.linear();
+    }
+    const OdometryStep3 odo = with.noisy_odometry(d.truth[k - 1], d.truth[k], 0.1, rng);
+    const ObservationSet3 scan = scan_at(where, rng);
+    const LocalizationResult3 ra = a.update(odo, scan);
+    const LocalizationResult3 rb = b.update(odo, scan);
+    const auto near = [&](const LocalizationResult3& r) {
+      return r.status == LocalizationStatus::kConverged &&
+             (r.pose.translation() - where.translation()).norm() < 0.05 &&
+             attitude_error(r.pose, where) < 0.01;
+    };
+    if (!moved) continue;
+    if (near(ra) && found_after < 0) found_after = static_cast<int>(k) - 15;
+    wrong += ra.status == LocalizationStatus::kConverged && !near(ra);
+    found_without += near(rb);
+  }
+  std::printf("teleport of 3.5 m and 90 deg: found again %d scans after (%d recoveries)\n",
+              found_after, a.recoveries());
+  EXPECT_GE(found_after, 0);
+  EXPECT_LE(found_after, 12);  // lost after the window (5), then the re-acquiring scans
+  EXPECT_EQ(a.recoveries(), 1);
+  EXPECT_EQ(wrong, 0);
+  EXPECT_EQ(found_without, 0);
+  EXPECT_EQ(b.recoveries(), 0);
+}
+
 /// A tracker that never moves (an estimate stuck where it was reset), explaining nothing.
 class StuckTracker3 final : public Localizer3D {
  public:

@@ -26,9 +26,11 @@
 
 #include "cli_runner.hpp"
 #include "vdtnav/core/pose3.hpp"
+#include "vdtnav/io/imu_table.hpp"
 #include "vdtnav/io/tum_trajectory.hpp"
 #include "vdtnav/io/vdt_map_file.hpp"
 #include "vdtnav/sensor/sweep_motion.hpp"
+#include "vdtnav/sim/imu_simulator.hpp"
 #include "vdtnav/sim/lidar3d_simulator.hpp"
 #include "vdtnav/sim/room3d.hpp"
 
@@ -343,6 +345,170 @@ TEST(Cli3d, AMapThatExplainsNoScanExits3WithAnEmptyTrajectory) {
                     log),
             3);
   EXPECT_EQ(load_tum_trajectory((out / "trajectory.tum").string()).poses.size(), 3u);
+}
+
+TEST(Cli3d, InitGlobalFindsTheFirstScanWithNoPriorAndRefusesAMapThatExplainsNone) {
+  // --init global: the first scan searched over the whole room (branch and bound over x, y, z,
+  // yaw, level roll and pitch: the scans are rolled and pitched 1-2 degrees, which the 6-DOF
+  // refinement frees), then tracked; the truth is 3 m and 0.3 rad from identity.
+  const Fixture& f = fixture();
+  const fs::path out = f.dir / "global", log = f.dir / "global.log";
+  ASSERT_EQ(run_cli("localize3d --map " + (f.dir / "room.csv").string() + " --scans " +
+                        (f.dir / "scans").string() + " --init global --out " + out.string(),
+                    log),
+            0)
+      << read_all(log);
+  const std::string text = read_all(log);
+  EXPECT_NE(text.find("--init global, scan 1: accepted"), std::string::npos) << text;
+  EXPECT_NE(text.find("no IMU, roll and pitch searched from level"), std::string::npos) << text;
+  const TumTrajectory t = load_tum_trajectory((out / "trajectory.tum").string());
+  ASSERT_EQ(t.poses.size(), 3u);
+  for (int s = 0; s < 3; ++s) {
+    EXPECT_LT((t.poses[s].pose.translation() - f.truth[s].translation()).norm(), 0.03) << s;
+    EXPECT_LT(attitude_error(t.poses[s].pose, f.truth[s]), 0.005) << s;
+  }
+  // The map cropped to a corner of the room explains no scan anywhere: every scan is refused
+  // (no pose invented), exit 3.
+  const fs::path none = f.dir / "global_none";
+  EXPECT_EQ(run_cli("localize3d --map " + (f.dir / "room.csv").string() +
+                        " --crop -0.2,-0.2,-0.2,1.5,1.5,3.6 --scans " + (f.dir / "scans").string() +
+                        " --init global --out " + none.string(),
+                    log),
+            3)
+      << read_all(log);
+  EXPECT_NE(read_all(log).find("--init global: no scan of 3 found"), std::string::npos)
+      << read_all(log);
+  EXPECT_TRUE(load_tum_trajectory((none / "trajectory.tum").string()).poses.empty());
+}
+
+/// A slalom from standstill on a circle of 1.5 m about (4, 5) in the room, 1.2 m up, level,
+/// facing along it: theta(t) = 0.6 (1 - cos pi t) + 0.15 t^2, the turn rate swinging between
+/// -1.4 and 2.6 rad/s.
+sim::MotionState3 slalom(double t) {
+  const double th = 0.6 * (1.0 - std::cos(kPi * t)) + 0.15 * t * t, r = 1.5;
+  const double w = 0.6 * kPi * std::sin(kPi * t) + 0.3 * t;     // theta'
+  const double dw = 0.6 * kPi * kPi * std::cos(kPi * t) + 0.3;  // theta''
+  sim::MotionState3 m;
+  m.pose = pose3_from_xyz_rpy(4.0 + r * std::cos(th), 5.0 + r * std::sin(th), 1.2, 0.0, 0.0,
+                              th + kPi / 2);
+  m.velocity = r * w * Eigen::Vector3d(-std::sin(th), std::cos(th), 0.0);
+  m.acceleration = r * dw * Eigen::Vector3d(-std::sin(th), std::cos(th), 0.0) -
+                   r * w * w * Eigen::Vector3d(std::cos(th), std::sin(th), 0.0);
+  m.body_rates = Eigen::Vector3d(0.0, 0.0, w);
+  return m;
+}
+
+/// A robot creeping at 0.3 m/s along x on a slope: rolled 2 degrees, pitched -1.5 (constant).
+sim::MotionState3 creep(double t) {
+  sim::MotionState3 m;
+  m.pose = pose3_from_xyz_rpy(3.0 + 0.3 * t, 4.0, 1.2, 2.0 * kPi / 180, -1.5 * kPi / 180, 0.2);
+  m.velocity = Eigen::Vector3d(0.3, 0.0, 0.0);
+  return m;
+}
+
+/// Scans of the room every 0.5 s for 4 s along `trajectory` (files named by their stamps,
+/// 100.0, 100.5, ...) and an IMU at 200 Hz with the BMI088's noise and a bias within the
+/// settings' sigma (imu.csv); returns the scans' true poses.
+std::vector<Pose3> write_imu_run(const fs::path& dir, sim::MotionState3 (*trajectory)(double),
+                                 unsigned seed) {
+  const Fixture& f = fixture();
+  fs::create_directories(dir / "scans");
+  sim::Lidar3dSpec spec;
+  spec.azimuth_step = kPi / 180.0;
+  std::mt19937 rng(seed);
+  std::vector<Pose3> truth;
+  for (int k = 0; k <= 8; ++k) {
+    truth.push_back(trajectory(0.5 * k).pose);
+    const sim::Lidar3dScan scan = sim::simulate_lidar3d_scan(*f.world, truth.back(), spec, rng);
+    char name[32];
+    std::snprintf(name, sizeof name, "%.1f.pcd", 100.0 + 0.5 * k);
+    write_pcd(dir / "scans" / name, scan.points);
+  }
+  sim::ImuSimulation is;
+  const ImuNoise noise;
+  is.gyro_noise_density = noise.gyro_noise_density;
+  is.accel_noise_density = noise.accel_noise_density;
+  is.gyro_bias = Eigen::Vector3d(0.5e-3, -0.5e-3, 0.8e-3);
+  is.accel_bias = Eigen::Vector3d(0.01, -0.015, 0.01);
+  save_imu_csv((dir / "imu.csv").string(),
+               sim::simulate_imu([trajectory](double t) { return trajectory(t - 100.0); }, 99.5,
+                                 104.1, is, rng));
+  return truth;
+}
+
+/// The worst position and attitude error of a run's trajectory.tum (stamps 100 + 0.5 k) against
+/// `truth`; \return the poses it holds.
+std::size_t worst_errors(const fs::path& out, const std::vector<Pose3>& truth, double* worst_m,
+                         double* worst_rad) {
+  const TumTrajectory t = load_tum_trajectory((out / "trajectory.tum").string());
+  *worst_m = *worst_rad = 0.0;
+  for (const StampedPose3& p : t.poses) {
+    const auto i = static_cast<std::size_t>(std::lround((p.t - 100.0) / 0.5));
+    *worst_m = std::max(*worst_m, (p.pose.translation() - truth[i].translation()).norm());
+    *worst_rad = std::max(*worst_rad, attitude_error(p.pose, truth[i]));
+  }
+  return t.poses.size();
+}
+
+TEST(Cli3d, AnImuCsvPredictsTheMotionBetweenSparseScansWhereConstantVelocityFails) {
+  // The slalom scanned every 0.5 s: --imu preintegrates the IMU between scans (the increment and
+  // its covariance, the velocity from the last two estimates and the IMU between them); constant
+  // velocity from the last two estimates is off by up to ~1 rad there.
+  const Fixture& f = fixture();
+  const fs::path dir = f.dir / "slalom", log = dir / "run.log";
+  const std::vector<Pose3> truth = write_imu_run(dir, slalom, 8);
+  const std::string base = "localize3d --map " + (f.dir / "room.csv").string() + " --scans " +
+                           (dir / "scans").string() + " --init 5.6,5.1,1.2,0,0,1.6";
+  ASSERT_EQ(
+      run_cli(base + " --imu " + (dir / "imu.csv").string() + " --out " + (dir / "with").string(),
+              log),
+      0)
+      << read_all(log);
+  EXPECT_NE(read_all(log).find("IMU: 8 of the 8 scans after the first predicted from it"),
+            std::string::npos)
+      << read_all(log);
+  double m = 0.0, rad = 0.0;
+  EXPECT_EQ(worst_errors(dir / "with", truth, &m, &rad), 9u) << read_all(log);
+  std::printf("with the IMU: worst %.3f m / %.4f rad\n", m, rad);
+  EXPECT_LT(m, 0.03);
+  EXPECT_LT(rad, 0.01);
+  run_cli(base + " --out " + (dir / "without").string(), log);  // constant velocity
+  const std::size_t n = worst_errors(dir / "without", truth, &m, &rad);
+  std::printf("constant velocity: %zu of 9 converged, worst %.3f m / %.4f rad\n", n, m, rad);
+  EXPECT_TRUE(n < 9 || m > 0.1) << read_all(log);
+}
+
+TEST(Cli3d, FourDofHoldsRollAndPitchAtGravitysWithItsSigma) {
+  // On a slope (roll 2 deg, pitch -1.5), started level: --dof 4 --imu holds the tracked scans'
+  // roll and pitch at what gravity says, with its sigma in the covariance; without the IMU they
+  // stay held at the start's (level), 2 degrees off, and the position pays for it.
+  const Fixture& f = fixture();
+  const fs::path dir = f.dir / "slope", log = dir / "run.log";
+  const std::vector<Pose3> truth = write_imu_run(dir, creep, 9);
+  const std::string base = "localize3d --map " + (f.dir / "room.csv").string() + " --scans " +
+                           (dir / "scans").string() + " --dof 4 --init 3.05,4.0,1.2,0,0,0.2";
+  ASSERT_EQ(
+      run_cli(base + " --imu " + (dir / "imu.csv").string() + " --out " + (dir / "with").string(),
+              log),
+      0)
+      << read_all(log);
+  double m = 0.0, rad = 0.0;
+  EXPECT_EQ(worst_errors(dir / "with", truth, &m, &rad), 9u) << read_all(log);
+  // The first scan holds the start's level attitude; the tracked ones gravity's.
+  const TumTrajectory t = load_tum_trajectory((dir / "with" / "trajectory.tum").string());
+  double tracked_rad = 0.0;
+  for (std::size_t k = 1; k < t.poses.size(); ++k)
+    tracked_rad = std::max(tracked_rad, attitude_error(t.poses[k].pose, truth[k]));
+  std::printf("4-DOF with the IMU: tracked scans within %.4f rad\n", tracked_rad);
+  EXPECT_LT(tracked_rad, 0.005);  // gravity's roll and pitch: 2 degrees is 0.035
+  const YamlResult r = read_yaml(dir / "with" / "100.5.yaml");
+  ASSERT_TRUE(std::isfinite(r.covariance(3, 3))) << r.covariance;
+  EXPECT_GT(std::sqrt(r.covariance(3, 3)), 1e-4);
+  EXPECT_LT(std::sqrt(r.covariance(3, 3)), 0.01);
+  ASSERT_EQ(run_cli(base + " --out " + (dir / "without").string(), log), 0) << read_all(log);
+  worst_errors(dir / "without", truth, &m, &rad);
+  EXPECT_GT(rad, 0.02);  // held level
+  EXPECT_TRUE(std::isnan(read_yaml(dir / "without" / "100.5.yaml").covariance(3, 3)));
 }
 
 TEST(Cli3d, Map3dThinsANoisyWallUnlessToldNot) {

@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <memory>
 #include <optional>
 #include <set>
 #include <sstream>
@@ -19,12 +20,14 @@
 #include "parse.hpp"
 #include "staged_output.hpp"
 #include "vdtnav/core/error.hpp"
+#include "vdtnav/estimation/global_localization3d.hpp"
 #include "vdtnav/estimation/localizer_config.hpp"
 #include "vdtnav/estimation/localizer_factory.hpp"
 #include "vdtnav/estimation/multi_start.hpp"
 #include "vdtnav/estimation/recovering_localizer3d.hpp"
 #include "vdtnav/estimation/vdt_optimizer.hpp"
 #include "vdtnav/eval/trajectory_metrics.hpp"
+#include "vdtnav/io/imu_table.hpp"
 #include "vdtnav/io/scan_run.hpp"
 #include "vdtnav/io/tum_trajectory.hpp"
 #include "vdtnav/pcl/cloud_observations.hpp"
@@ -47,6 +50,7 @@ struct Localize3dArgs {
   std::string bag, cloud_topic, odom_topic, imu_topic, odom_frame = "odom",
                                                        base_frame = "base_link";
   std::string lidar_pose;
+  std::string imu_csv;  // --imu FILE: t,wx,wy,wz,ax,ay,az
   int dof = 6;
   Map3dOptions map_options;
   double voxel = -1.0;
@@ -174,6 +178,77 @@ void write_text(const std::string& path, const std::string& text) {
   if (!f) throw IoError(path + ": write failed");
 }
 
+/// The motion between two scans from the IMU's samples (sensor/imu.hpp): the increment
+/// preintegrated over [t_prev, t] from the previous scan's estimate and the velocity there, with
+/// its covariance (the IMU's noise and bias and the velocity's uncertainty). The velocity at a
+/// scan follows from the two estimates before it and the IMU between them, exactly:
+/// p_b = p_a + v_a dt + g dt^2 / 2 + R_a dp gives v_a, and v_b = v_a + g dt + R_a dv; its
+/// covariance (P_a + P_b)_pos / dt^2. Before two consecutive estimates there is none: 0 +- 2 m/s.
+class ImuMotion {
+ public:
+  ImuMotion(const std::vector<ImuSample>& samples, const ImuNoise& noise)
+      : samples_(&samples), noise_(noise) {}
+
+  /// \brief A scan's estimate at t (converged or not: a refused scan's is the prediction).
+  void add(double t, const Pose3& pose, const Matrix6d& covariance, bool converged) {
+    velocity_known_ = false;
+    if (has_prev_ && prev_converged_ && converged && t > prev_t_ &&
+        imu_covers(*samples_, prev_t_, t)) {
+      const ImuIncrement inc = integrate_imu(*samples_, prev_t_, t, noise_);
+      const Eigen::Vector3d g(0.0, 0.0, -noise_.gravity);
+      const double dt = inc.dt;
+      const Eigen::Vector3d va = (pose.translation() - prev_pose_.translation() -
+                                  0.5 * g * dt * dt - prev_pose_.linear() * inc.delta_p) /
+                                 dt;
+      velocity_ = va + g * dt + prev_pose_.linear() * inc.delta_v;
+      velocity_covariance_ =
+          (prev_covariance_.topLeftCorner<3, 3>() + covariance.topLeftCorner<3, 3>()) / (dt * dt);
+      velocity_known_ = true;
+    }
+    has_prev_ = true;
+    prev_t_ = t;
+    prev_pose_ = pose;
+    prev_covariance_ = covariance;
+    prev_converged_ = converged;
+  }
+
+  /// \return the step from the last scan added to a scan at t, or none when the samples do not
+  /// cover the interval.
+  [[nodiscard]] std::optional<OdometryStep3> step(double t) const {
+    if (!has_prev_ || !(t > prev_t_) || !imu_covers(*samples_, prev_t_, t)) return std::nullopt;
+    const ImuIncrement inc = integrate_imu(*samples_, prev_t_, t, noise_);
+    const Eigen::Vector3d v = velocity_known_ ? velocity_ : Eigen::Vector3d::Zero();
+    const Eigen::Matrix3d sv =
+        velocity_known_ ? velocity_covariance_ : Eigen::Matrix3d(4.0 * Eigen::Matrix3d::Identity());
+    const ImuRelativePose rp = imu_relative_pose(prev_pose_, v, sv, inc, noise_.gravity);
+    OdometryStep3 m;
+    m.dt = inc.dt;
+    m.delta = rp.delta;
+    m.covariance = rp.covariance;
+    m.has_covariance = true;
+    return m;
+  }
+
+  /// \brief Roll and pitch from gravity over the `window` seconds before t, when the samples cover
+  /// it and the robot is not accelerating there (attitude_from_gravity).
+  [[nodiscard]] std::optional<GravityAttitude> gravity(double t, double window) const {
+    if (samples_->empty() || !imu_covers(*samples_, t - window, t)) return std::nullopt;
+    const GravityAttitude g = attitude_from_gravity(*samples_, t - window, t, noise_);
+    if (g.accelerating) return std::nullopt;
+    return g;
+  }
+
+ private:
+  const std::vector<ImuSample>* samples_;
+  ImuNoise noise_;
+  bool has_prev_ = false, prev_converged_ = false, velocity_known_ = false;
+  double prev_t_ = 0.0;
+  Pose3 prev_pose_ = Pose3::Identity();
+  Matrix6d prev_covariance_ = Matrix6d::Zero();
+  Eigen::Vector3d velocity_ = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d velocity_covariance_ = Eigen::Matrix3d::Zero();
+};
+
 void run_localize3d(const Localize3dArgs& a) {
   // Options first: a typo must not cost a map build.
   if (a.dof != 6 && a.dof != 4) throw UsageError("localize3d: --dof must be 6 or 4");
@@ -229,10 +304,33 @@ void run_localize3d(const Localize3dArgs& a) {
   }
   apply_threads(a.threads, settings.threads);
   if (a.map.empty()) throw UsageError("localize3d: --map is required");
+  if (!a.imu_csv.empty() && !a.imu_topic.empty())
+    throw UsageError("localize3d: give --imu FILE or --imu-topic, not both");
+  // The IMU's samples (sensor/imu.hpp): a CSV, or (below) a bag's Imu topic.
+  std::vector<ImuSample> imu;
+  if (!a.imu_csv.empty()) {
+    ImuCsvReport report;
+    imu = load_imu_csv(a.imu_csv, &report);
+    if (imu.empty())
+      throw FormatError(a.imu_csv, 0, "no IMU sample (expected rows t,wx,wy,wz,ax,ay,az)");
+    const std::string dropped =
+        report.non_finite_lines.empty()
+            ? ""
+            : ", " + std::to_string(report.non_finite_lines.size()) + " non-finite rows dropped";
+    std::fprintf(stderr,
+                 "[localize3d] IMU %s: %zu samples over [%.3f, %.3f] s%s, preintegrated between "
+                 "scans (localize3d.imu)\n",
+                 a.imu_csv.c_str(), imu.size(), imu.front().t, imu.back().t, dropped.c_str());
+  }
+  ImuMotion imu_motion(imu, lo.imu);
+  std::size_t imu_steps = 0;
   const VdtOptimizerOptions& opt = lo.optimizer;
   const MultiStartOptions& ms = lo.multi_start;
+  // --init global: the first scans are localized with no prior (global_localization3d.hpp) until
+  // one is accepted; the tracker goes on from there.
+  const bool init_global = a.init == "global";
   Pose3 init = Pose3::Identity();
-  if (!a.init.empty()) init = parse_pose3(a.init, "--init");
+  if (!a.init.empty() && !init_global) init = parse_pose3(a.init, "--init");
   if (!a.init_matrix.empty()) init = read_pose_matrix(a.init_matrix);
   Map3dOptions mo = a.map_options;
   mo.quiet = a.quiet;
@@ -255,6 +353,20 @@ void run_localize3d(const Localize3dArgs& a) {
                map.source.c_str(), field.size().x(), field.size().y(), field.size().z(),
                field.resolution(), static_cast<double>(map.memory_bytes()) * 1e-6, map.seconds);
   const VdtOptimizer3 optimizer(field, opt);
+  std::unique_ptr<GlobalLocalizer3> global;
+  if (init_global) {
+    const auto g0 = std::chrono::steady_clock::now();
+    GlobalLocalization3Options go = lo.global;
+    go.optimizer = opt;
+    global = std::make_unique<GlobalLocalizer3>(field, go);
+    const Eigen::Vector3i n = global->search_size();
+    std::fprintf(stderr,
+                 "[localize3d] --init global: %d x %d x %d search cells of %.2f m, %zu where the "
+                 "sensor may be (%.2f m from the map's surfaces), ready in %.2f s\n",
+                 n.x(), n.y(), n.z(), global->search_frame().resolution(), global->free_cells(),
+                 go.clearance,
+                 std::chrono::duration<double>(std::chrono::steady_clock::now() - g0).count());
+  }
   CloudObservationOptions co;
   co.sigma_range = a.sigma_range;
   co.range_min = a.min_range;
@@ -286,6 +398,7 @@ void run_localize3d(const Localize3dArgs& a) {
   };
   std::size_t accepted = 0, refused = 0, lost = 0;
   std::size_t count = 0;
+  bool said_level = false;      // --init global without an IMU: said once
   std::vector<double> scan_ms;  // each scan's reading and solve: the summary's median, p99, max
   // One scan: solved from --init (or the prediction) until one is accepted, then tracked with the
   // motion given (odometry, and roll and pitch from an IMU) or constant velocity.
@@ -298,7 +411,50 @@ void run_localize3d(const Localize3dArgs& a) {
     const auto t1 = std::chrono::steady_clock::now();
     r.cloud_points = cloud_points;
     r.readings = obs.size();
-    if (accepted == 0) {  // from --init (or the prediction while nothing was accepted)
+    if (accepted == 0 && global) {  // --init global: no prior
+      // Roll and pitch from the IMU: gravity over the 0.2 s before the scan (--imu, or a bag's
+      // rates), else the bag's orientation (--imu-topic), else the sensor taken as level.
+      const std::optional<GravityAttitude> gravity = imu_motion.gravity(t, 0.2);
+      std::optional<OdometryStep3> att = odometry;
+      if (gravity) {
+        att = odometry.value_or(OdometryStep3{});
+        att->roll = gravity->roll;
+        att->pitch = gravity->pitch;
+      }
+      const bool imu = att && att->has_attitude();
+      if (!imu && !said_level && !a.quiet) {
+        said_level = true;
+        std::fprintf(stderr,
+                     "[localize3d] --init global: no IMU, roll and pitch searched from level "
+                     "(the refinement frees them%s)\n",
+                     a.dof == 4 ? "; --dof 4 holds them level" : "");
+      }
+      const GlobalLocalization3Result g =
+          global->localize(obs, imu ? att->roll : 0.0, imu ? att->pitch : 0.0);
+      r.result = g.result;
+      r.explained = g.explained;
+      if (!a.quiet) {
+        std::fprintf(stderr,
+                     "[localize3d] --init global, scan %zu: %s (%.0f %% explained%s), %zu "
+                     "cubes in %.3f s\n",
+                     count,
+                     g.result.status == LocalizationStatus::kConverged ? "accepted"
+                     : g.ambiguous                                     ? "refused, ambiguous"
+                                                                       : "refused",
+                     100.0 * g.explained,
+                     g.ambiguous ? (", " + std::to_string(g.alternatives.size()) +
+                                    " distinct poses explain it as well")
+                                       .c_str()
+                                 : "",
+                     g.nodes, g.seconds);
+      }
+      if (r.result.status == LocalizationStatus::kConverged)
+        tracker.reset(r.result.pose, r.result.covariance);
+      if (a.dof == 4 && r.result.has_covariance) {
+        r.result.covariance =
+            tracker.tracker().with_held_attitude(obs, r.result, lo.held_attitude_sigma);
+      }
+    } else if (accepted == 0) {  // from --init (or the prediction while nothing was accepted)
       r.result = localize_from_guess(tracker.tracker(), obs, last);
       r.explained = r.result.explained;
       if (r.result.status == LocalizationStatus::kConverged)
@@ -312,9 +468,27 @@ void run_localize3d(const Localize3dArgs& a) {
       motion.delta = before_last.inverse() * last;
       motion.dt = accepted > 1 ? last_t - before_last_t : 0.0;  // 0: no velocity known yet
       if (odometry) motion = *odometry;
+      if (const std::optional<OdometryStep3> m = imu_motion.step(t)) {
+        // The IMU's increment and covariance; roll and pitch: the bag's orientation, or in the
+        // 4-DOF mode gravity's (held).
+        const double roll = motion.roll, pitch = motion.pitch;
+        motion = *m;
+        motion.roll = roll;
+        motion.pitch = pitch;
+        if (a.dof == 4 && !motion.has_attitude()) {
+          if (const std::optional<GravityAttitude> g = imu_motion.gravity(t, 0.2)) {
+            motion.roll = g->roll;
+            motion.pitch = g->pitch;
+            motion.attitude_sigma = std::max(g->sigma_roll, g->sigma_pitch);
+          }
+        }
+        ++imu_steps;
+      }
       r.result = tracker.update(motion, obs);
       r.explained = r.result.explained;
     }
+    imu_motion.add(t, r.result.pose, r.result.covariance,
+                   r.result.status == LocalizationStatus::kConverged);
     const auto t2 = std::chrono::steady_clock::now();
     r.read_ms = read_ms;
     r.solve_ms = std::chrono::duration<double, std::milli>(t2 - t1).count();
@@ -394,6 +568,7 @@ void run_localize3d(const Localize3dArgs& a) {
           for (const Eigen::Vector3d& p : f.cloud.points)
             cloud.push_back(pcl::PointXYZ(static_cast<float>(p.x()), static_cast<float>(p.y()),
                                           static_cast<float>(p.z())));
+          if (f.imu != nullptr && imu.empty()) imu = *f.imu;  // the bag's rates, for ImuMotion
           CloudObservationOptions fo = co;
           fo.sensor_in_robot = f.mount;
           say_times(f.cloud.time_field);
@@ -445,12 +620,22 @@ void run_localize3d(const Localize3dArgs& a) {
   }
   std::fprintf(stderr, "[localize3d] %zu scans: %zu converged, %zu not (%zu lost)\n", count,
                accepted, refused, lost);
+  if (!imu.empty()) {
+    std::fprintf(stderr,
+                 "[localize3d] IMU: %zu of the %zu scans after the first predicted from it\n",
+                 imu_steps, count - std::min<std::size_t>(count, 1));
+  }
   if (count > 0) {
     const eval::ErrorStatistics ms = eval::error_statistics(scan_ms);
     std::fprintf(stderr,
                  "[localize3d] ms per scan (reading the cloud and solving): %.3f mean, %.3f "
                  "median, %.3f p99, %.3f max\n",
                  ms.mean, ms.median, ms.p99, ms.max);
+  }
+  if (accepted == 0 && init_global) {
+    throw NotLocalized("localize3d: --init global: no scan of " + std::to_string(count) +
+                       " found on the map with no prior (each unexplained anywhere, or ambiguous: "
+                       "see above; wrong map, or a place that repeats)");
   }
   if (accepted == 0) {
     throw NotLocalized("localize3d: no scan of " + std::to_string(count) +
@@ -490,8 +675,9 @@ void add_localize3d_command(CLI::App& app) {
                   "--base-frame when the bag has it, else the only Odometry topic, else none: "
                   "constant velocity)");
   cmd->add_option("--imu-topic", args->imu_topic,
-                  "--bag: a sensor_msgs/Imu topic whose orientation gives roll and pitch "
-                  "(the 4-DOF mode holds them)");
+                  "--bag: a sensor_msgs/Imu topic: its orientation gives roll and pitch (the "
+                  "4-DOF mode holds them), its rates and accelerations the prediction between "
+                  "clouds (as --imu)");
   cmd->add_option("--odom-frame", args->odom_frame, "--bag: the odometry frame (REP 105)")
       ->capture_default_str();
   cmd->add_option("--base-frame", args->base_frame, "--bag: the robot's frame (REP 105)")
@@ -500,8 +686,17 @@ void add_localize3d_command(CLI::App& app) {
                   "--bag: the LiDAR's pose x,y,z,roll,pitch,yaw in --base-frame when the bag has "
                   "no transform to the clouds' frame");
 #endif
+  cmd->add_option("--imu", args->imu_csv,
+                  "IMU samples as CSV t,wx,wy,wz,ax,ay,az (seconds on the scans' time base, "
+                  "rad/s, m/s^2, robot frame): preintegrated between scans for the prediction and "
+                  "its covariance (noise and biases: settings localize3d.imu); roll and pitch "
+                  "from gravity for --init global and --dof 4")
+      ->check(input_file("--imu"));
   cmd->add_option("--init", args->init,
-                  "Initial guess x,y,z,roll,pitch,yaw (metres, radians; default identity)");
+                  "Initial guess x,y,z,roll,pitch,yaw (metres, radians; default identity), or "
+                  "'global': found from the first scans with no prior (branch and bound over "
+                  "x, y, z, yaw; roll and pitch from --imu-topic, else level; settings section "
+                  "localize3d.global)");
   cmd->add_option("--init-matrix", args->init_matrix,
                   "Initial guess as a 4x4 matrix file (16 numbers, row by row)");
   cmd->add_option("--dof", args->dof,

@@ -4,6 +4,7 @@
 #include "vdtnav/ros/cloud_sequence.hpp"
 
 #include <algorithm>
+#include <memory>
 #include <vector>
 
 #include "topics.hpp"
@@ -18,15 +19,15 @@ using detail::tf_topics_of;
 
 namespace {
 
-struct ImuSample {
+struct ImuOrientation {
   std::int64_t t;
   Eigen::Quaterniond q;
 };
 
 /// The IMU's orientation at t: slerp between the samples around it; none outside their span.
-std::optional<Eigen::Quaterniond> imu_at(const std::vector<ImuSample>& s, std::int64_t t) {
-  const auto after = std::lower_bound(s.begin(), s.end(), t,
-                                      [](const ImuSample& a, std::int64_t x) { return a.t < x; });
+std::optional<Eigen::Quaterniond> imu_at(const std::vector<ImuOrientation>& s, std::int64_t t) {
+  const auto after = std::lower_bound(
+      s.begin(), s.end(), t, [](const ImuOrientation& a, std::int64_t x) { return a.t < x; });
   if (after == s.end()) return std::nullopt;
   if (after->t == t || after == s.begin()) {
     if (after->t != t) return std::nullopt;
@@ -61,7 +62,8 @@ CloudSequenceInfo read_cloud_sequence(const BagReader& bag, const CloudSequenceO
   if (odom_topic != nullptr) topics.push_back(odom_topic->name);
   if (imu_topic != nullptr) topics.push_back(imu_topic->name);
   std::string odom_parent, odom_child, imu_frame;
-  std::vector<ImuSample> imu;
+  std::vector<ImuOrientation> imu;
+  std::vector<vdtnav::ImuSample> rates;  // the IMU frame's; in base_frame below
   if (!topics.empty()) {
     bag.read(topics, [&](const BagMessage& m) {
       if (odom_topic != nullptr && m.topic == odom_topic->name) {
@@ -73,6 +75,11 @@ CloudSequenceInfo read_cloud_sequence(const BagReader& bag, const CloudSequenceO
         const ImuMsg i = decode_imu(m);
         imu_frame = strip_slash(i.header.frame_id);
         imu.push_back({i.header.stamp_ns, i.orientation.normalized()});
+        vdtnav::ImuSample r;
+        r.t = 1e-9 * static_cast<double>(i.header.stamp_ns);
+        r.gyro = i.angular_velocity;
+        r.accel = i.linear_acceleration;
+        rates.push_back(r);
       } else {
         tf.add(decode_tf(m), m.topic == "/tf_static");
       }
@@ -80,7 +87,10 @@ CloudSequenceInfo read_cloud_sequence(const BagReader& bag, const CloudSequenceO
     });
   }
   std::stable_sort(imu.begin(), imu.end(),
-                   [](const ImuSample& a, const ImuSample& b) { return a.t < b.t; });
+                   [](const ImuOrientation& a, const ImuOrientation& b) { return a.t < b.t; });
+  std::stable_sort(
+      rates.begin(), rates.end(),
+      [](const vdtnav::ImuSample& a, const vdtnav::ImuSample& b) { return a.t < b.t; });
 
   const TransformBuffer* odom_source = nullptr;
   std::string parent = o.odom_frame, child = o.base_frame;
@@ -105,6 +115,16 @@ CloudSequenceInfo read_cloud_sequence(const BagReader& bag, const CloudSequenceO
       imu_mount = tf.lookup(o.base_frame, imu_frame, imu.empty() ? 0 : imu.front().t).linear();
       info.imu_source += " (mounted as TF " + o.base_frame + " -> " + imu_frame + ")";
     }
+  }
+  // The rates and specific forces in base_frame (the lever arm left out: the IMU is taken at the
+  // robot's origin), one sample per stamp (a repeated stamp keeps the first).
+  auto imu_samples = std::make_shared<std::vector<vdtnav::ImuSample>>();
+  for (vdtnav::ImuSample r : rates) {
+    if (!imu_samples->empty() && !(r.t > imu_samples->back().t)) continue;
+    if (!r.gyro.allFinite() || !r.accel.allFinite()) continue;
+    r.gyro = imu_mount * r.gyro;
+    r.accel = imu_mount * r.accel;
+    imu_samples->push_back(r);
   }
 
   std::optional<Pose3> mount = o.lidar_pose;
@@ -133,6 +153,7 @@ CloudSequenceInfo read_cloud_sequence(const BagReader& bag, const CloudSequenceO
     if (odom_source != nullptr && odom_source->can_lookup(parent, child, f.stamp_ns)) {
       f.odometry = odom_source->lookup(parent, child, f.stamp_ns);
     }
+    if (imu_topic != nullptr) f.imu = imu_samples;
     if (const auto q = imu_at(imu, f.stamp_ns)) {
       const Eigen::Vector3d rpy = rpy_of(q->toRotationMatrix() * imu_mount.transpose());
       f.roll = rpy.x();

@@ -56,9 +56,9 @@ using TrackerT = std::conditional_t<Dim == 2, Localizer2D, Localizer3D>;
 /// through the map (scan_agreement.hpp: explained, contradicted, or where the map knows nothing)
 /// and a branch and bound over the whole map (x, y, phi: global_localization.hpp) proposes
 /// candidates; in 3D the maps carry no unknown space, so every reading the map does not explain
-/// contradicts, and a branch and bound over six dimensions does not fit a scan period, so
-/// re-acquisition is multi-start around the prediction (multi_start.hpp) on the lost scans
-/// (recovering_localizer3d.hpp). The window test, the statuses and the adoption are
+/// contradicts, and re-acquisition runs on the lost scans 1, 2, 4, 8, ...: multi-start around the
+/// prediction (multi_start.hpp), then a branch and bound over the whole map (x, y, z, yaw with
+/// roll and pitch from gravity: global_localization3d.hpp; recovering_localizer3d.hpp). The window test, the statuses and the adoption are
 /// RecoveringLocalizerT's, shared.
 template <int Dim>
 class Reacquisition {

@@ -2,16 +2,22 @@
 /// \file
 /// \brief Lost detection and recovery around the sequential 3D localizer
 /// (VdtOptimizationLocalizer3), the template 2D recovery uses (RecoveringLocalizerT<3>): the window
-/// test of lost_detection.hpp reports kLost, and while lost the tracker re-acquires with the
-/// attitude grid of its multi-start on lost scans 1, 2, 4, 8 and then every 16th (each costs
-/// ~0.5-1 s on a VLP-16 scan: the update time stays bounded when the robot is lost for good).
+/// test of lost_detection.hpp reports kLost, and while lost the tracker re-acquires on lost scans
+/// 1, 2, 4, 8 and then every 16th: first with the attitude grid of its multi-start around the
+/// prediction (~0.5-1 s on a VLP-16 scan), then, while the scan is still unexplained there and
+/// options.global_recovery is on, by global localization over the whole map
+/// (global_localization3d.hpp, options.global; roll and pitch from the IMU when the odometry
+/// carries them, else the track's; 0.1-0.3 s on CATEC, its pyramid built at the first loss). A
+/// pose the search accepts (explained, not ambiguous) is adopted at once. The update time stays
+/// bounded when the robot is lost for good.
 ///
 /// Where it differs from 2D (recovering_localizer.hpp's Reacquisition says why): a scan is weighed
 /// by the fraction of its readings the map explains, every other reading contradicting (a 3D map
-/// here carries no unknown space); the re-acquisition searches around the prediction, not the
-/// whole map; a window in doubt does not refuse a pose the tracker accepted (no search for a
-/// clearly better one runs); and every scan enters the window (a voxelized 3D scan keeps
-/// hundreds of readings).
+/// here carries no unknown space); a found pose is adopted on one scan, not verified over several
+/// (a VLP-16 scan of ~2000 readings decides what a 2D scan's window does, and the search refuses
+/// ambiguous places itself); a window in doubt does not refuse a pose the tracker accepted (no
+/// search for a clearly better one runs); and every scan enters the window (a voxelized 3D scan
+/// keeps hundreds of readings).
 
 #include <memory>
 

@@ -36,10 +36,12 @@
 #include <random>
 #include <string>
 
+#include "vdtnav/estimation/global_localization3d.hpp"
 #include "vdtnav/estimation/localizer.hpp"
 #include "vdtnav/estimation/lost_detection.hpp"
 #include "vdtnav/estimation/multi_start.hpp"
 #include "vdtnav/estimation/vdt_optimizer.hpp"
+#include "vdtnav/sensor/imu.hpp"
 
 namespace vdtnav {
 
@@ -66,6 +68,11 @@ struct VdtLocalizer3Options {
   /// The IMU's roll and pitch noise (1 sigma), radians, for odometry steps that carry them
   /// (OdometryStep3::has_attitude): a consumer-grade AHRS, ~0.3 degrees.
   double sigma_imu_attitude = 0.005;
+  /// The IMU's rates and specific forces (`vdtnav localize3d --imu FILE.csv`, or a bag's
+  /// --imu-topic): noise densities, biases and gravity, preintegrated between scans into the
+  /// prediction and its covariance (sensor/imu.hpp). The localizer itself takes the steps made
+  /// from them (OdometryStep3::covariance, attitude_sigma).
+  ImuNoise imu;
   /// Deskew scans whose readings carry times (ObservationSet3::times) at constant velocity
   /// (sensor/sweep_motion.hpp): first by the predicted motion (the odometry increment over its
   /// dt), then by the motion from the previous estimate to this scan's solution, solved again
@@ -94,6 +101,13 @@ struct VdtLocalizer3Options {
   }();
   /// Lost detection (recovering_localizer3d.hpp; the tracker alone does not use it).
   LostDetectionOptions lost;
+  /// Recovery (recovering_localizer3d.hpp): while lost, the re-acquiring scans also run global
+  /// localization over the whole map (`global`, refined with `optimizer`), and a pose it accepts
+  /// is adopted; false: only the attitude grid around the prediction.
+  bool global_recovery = true;
+  /// Global localization (global_localization3d.hpp): `vdtnav localize3d --init global` and
+  /// recovery. Its own optimizer is replaced by `optimizer` above.
+  GlobalLocalization3Options global;
 
   /// \return the odometry noise (1 sigma) of an increment `delta` over `dt` seconds: translation
   /// (metres, per axis) and rotation (radians, per axis), the model above. What the prediction

@@ -26,6 +26,14 @@ struct OdometryStep3 {
   /// pose3_from_xyz_rpy), radians; NaN: no IMU, the prediction's own attitude is used.
   double roll = std::numeric_limits<double>::quiet_NaN();
   double pitch = std::numeric_limits<double>::quiet_NaN();
+  /// Their standard deviation (radians), e.g. from gravity (sensor/imu.hpp,
+  /// attitude_from_gravity); NaN: the localizer's own (VdtLocalizer3Options::sigma_imu_attitude).
+  double attitude_sigma = std::numeric_limits<double>::quiet_NaN();
+  /// The increment's own covariance, of (dt, dtheta) with delta_true = oplus(delta, e) (the left
+  /// perturbation in the previous robot frame): an IMU's preintegration (sensor/imu.hpp,
+  /// imu_relative_pose). has_covariance false: the localizer's odometry noise model.
+  Matrix6d covariance = Matrix6d::Zero();
+  bool has_covariance = false;
 
   [[nodiscard]] bool has_attitude() const noexcept { return roll == roll && pitch == pitch; }
 };

@@ -1,7 +1,7 @@
 // read_cloud_sequence on a ROS 1 bag written here with rosbag::Bag, whose truth is known: a LiDAR
 // mounted 1 m ahead and 0.5 m up (/tf_static), the robot driving along x at 1 m/s (/tf
 // odom -> base_link), an IMU reporting roll 0.1 and pitch -0.05 rad, two clouds between the
-// odometry stamps.
+// odometry stamps; the IMU's rates and accelerations come with every cloud.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -79,6 +79,12 @@ fs::path write_bag() {
     imu.orientation.y = q.y();
     imu.orientation.z = q.z();
     imu.orientation.w = q.w();
+    imu.angular_velocity.x = 0.01 * k;
+    imu.angular_velocity.y = -0.02;
+    imu.angular_velocity.z = 0.3;
+    imu.linear_acceleration.x = 0.1 * k;
+    imu.linear_acceleration.y = 0.2;
+    imu.linear_acceleration.z = 9.8;
     bag.write("/imu", ::ros::Time(t), imu);
   }
   bag.write("/points", ::ros::Time(100.5), cloud(100.5));
@@ -113,6 +119,15 @@ TEST(CloudSequence, MountOdometryAndImuAtEachCloudsStamp) {
     EXPECT_NEAR(f.pitch, -0.05, 1e-9);
     ASSERT_EQ(f.cloud.points.size(), 2U);
     EXPECT_EQ(f.cloud.points[1], Eigen::Vector3d(0.0, 4.0, 1.0));
+    // The IMU's rates and accelerations, every sample of the bag, for the preintegration.
+    ASSERT_NE(f.imu, nullptr);
+    ASSERT_EQ(f.imu->size(), 3U);
+    for (int i = 0; i < 3; ++i) {
+      const vdtnav::ImuSample& s = (*f.imu)[static_cast<std::size_t>(i)];
+      EXPECT_NEAR(s.t, 100.0 + i, 1e-9);
+      EXPECT_NEAR((s.gyro - Eigen::Vector3d(0.01 * i, -0.02, 0.3)).norm(), 0.0, 1e-12);
+      EXPECT_NEAR((s.accel - Eigen::Vector3d(0.1 * i, 0.2, 9.8)).norm(), 0.0, 1e-12);
+    }
   }
   // Without TF from base_link to the clouds' frame, --lidar-pose is asked for.
   CloudSequenceOptions other = o;

@@ -12,16 +12,21 @@
 /// - mounting: `lidar_pose` when given, else TF base_frame -> the cloud's frame, else identity
 ///   when the cloud is in base_frame; otherwise a ConfigError naming the frames;
 /// - roll and pitch: `imu_topic` when given (sensor_msgs/Imu orientation, slerped at the stamp and
-///   turned into the robot's through TF base_frame -> the IMU's frame when the bag has it).
+///   turned into the robot's through TF base_frame -> the IMU's frame when the bag has it); its
+///   angular velocities and linear accelerations too, turned the same way (CloudFrame::imu), for
+///   the localizer to preintegrate between clouds.
 
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "vdtnav/core/pose3.hpp"
 #include "vdtnav/ros/bag_reader.hpp"
 #include "vdtnav/ros/cloud_points.hpp"
+#include "vdtnav/sensor/imu.hpp"
 
 namespace vdtnav::ros {
 
@@ -44,6 +49,9 @@ struct CloudFrame {
   std::optional<Pose3> odometry;    ///< base_frame in odom_frame at the stamp
   double roll = std::numeric_limits<double>::quiet_NaN();   ///< the robot's, from the IMU
   double pitch = std::numeric_limits<double>::quiet_NaN();  ///< NaN: no IMU reading there
+  /// With an IMU topic: every sample of the bag's (angular velocity and linear acceleration turned
+  /// into base_frame, stamps in seconds, increasing), shared by the frames; else null.
+  std::shared_ptr<const std::vector<vdtnav::ImuSample>> imu;
 };
 
 /// \brief What the run is made of, said once before the clouds come.
