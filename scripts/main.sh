@@ -41,7 +41,7 @@ step "[7/22] Active localization with one rotating range beam (thesis ch. 4, gen
 step "[8/22] Never lost: global localization from one scan (branch and bound vs random sampling) and the kidnapped robot (generated floor plan)"
 "$bin/kidnapped/vdtnav_kidnapped" --out "$out/kidnapped"
 if [ -x "$bin/lidar_3d/vdtnav_lidar_3d" ]; then
-  step "[9/22] 3D LiDAR: simulated VLP-16 scans on the generated 3D room (ray cast in its own voxels) and on the room rebuilt by map3d from a noisy mapping drive, 6-DOF and 4-DOF"
+  step "[9/22] 3D LiDAR: simulated VLP-16 scans on the generated 3D room (ray cast in its own voxels) and on the room rebuilt by map3d from a noisy mapping drive, 6-DOF and 4-DOF; global localization from one scan at 40 poses"
   "$bin/lidar_3d/vdtnav_lidar_3d" --out "$out/lidar_3d"
 fi
 if [ -d "$data" ]; then
@@ -61,7 +61,7 @@ if [ -d "$data" ]; then
       --out "$out/pan_tilt_3d_catec"
   fi
   if [ -f "$data/3d/dll-catec/catec.bt" ] && [ -x "$bin/lidar_3d/vdtnav_lidar_3d" ]; then
-    step "[15/22] 3D LiDAR: simulated VLP-16 scans on the real CATEC OctoMap (ray cast in its own voxels) and on CATEC rebuilt by map3d from a noisy mapping drive (3 min)"
+    step "[15/22] 3D LiDAR: simulated VLP-16 scans on the real CATEC OctoMap (ray cast in its own voxels) and on CATEC rebuilt by map3d from a noisy mapping drive; global localization from one scan at 40 poses (2-3 min)"
     "$bin/lidar_3d/vdtnav_lidar_3d" --map "$data/3d/dll-catec/catec.bt" --out "$out/lidar_3d_catec"
   fi
   if [ -f "$data/vision/aerial/aero1.jpg" ] && [ -x "$bin/uav_camera/vdtnav_uav_camera" ]; then
@@ -149,7 +149,7 @@ if [ -f "$out"/pmd_rgbd_kinect/kinect_relative.csv ]; then
   echo "-- $out/pmd_rgbd_kinect/kinect_relative.csv"
   cat "$out"/pmd_rgbd_kinect/kinect_relative.csv
 fi
-for t in "$out"/python_intel/table.csv "$out"/python_pair3d/summary.csv; do
+for t in "$out"/lidar_3d*/global.csv "$out"/python_intel/table.csv "$out"/python_pair3d/summary.csv; do
   [ -f "$t" ] || continue
   echo "-- $t"
   cat "$t"

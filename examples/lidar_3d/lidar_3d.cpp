@@ -19,6 +19,8 @@
 // (map_pose_sigma), over the drive's first --rebuilt-scans scans: on a map blurred by the
 // builder's pose error the solves stop at their iteration limit and the multi-start follows,
 // ~50x the exact map's time per scan (README, 3D LiDAR).
+// Then global localization (GlobalLocalizer3) from one scan at --global-trials poses drawn over
+// the map (global_trials.cpp): global.csv, global_trials.csv.
 // Writes to --out: table.csv (method,scans,pos_rmse_m,att_rmse_rad,anees,anees_lo,anees_hi,
 // lost_pct,ms_per_scan,anees_left_out,ms_median,ms_p99,ms_max,nees_inside_95_pct), table.md,
 // trajectory.png (top view), errors.png (errors with +-2 sigma).
@@ -97,6 +99,11 @@ int main(int argc, char** argv) {
   app.add_option("--tolerance", o6.optimizer.function_tolerance, "relative cost change to stop")
       ->capture_default_str();
   app.add_option("--gate-rounds", o6.optimizer.gate_rounds, "re-gating rounds per solve")
+      ->capture_default_str();
+  int global_trials = 40;
+  app.add_option("--global-trials", global_trials,
+                 "global localization from one scan with no prior, at this many poses drawn "
+                 "over the map (global.csv; 0: none)")
       ->capture_default_str();
   CLI11_PARSE(app, argc, argv);
   // --scans N (a count) or --scans DIR (a real sequence).
@@ -216,8 +223,20 @@ int main(int argc, char** argv) {
     lidar3d::write_tables(out, world_name, truth, speed, readings_sum, voxel, vlp16, o6,
                           mapping_scans, map_pose_sigma, runs, sim_seconds);
     lidar3d::draw_figures(out, fp, tour, truth, runs);
-    std::printf("wrote %s/table.csv, table.md, trajectory.png, errors.png (%.1f s)\n", out.c_str(),
-                seconds());
+    if (global_trials > 0) {
+      lidar3d::GlobalTrials g;
+      g.out = out;
+      g.trials = global_trials;
+      g.voxel = voxel;
+      g.sigma_gravity = o6.sigma_imu_attitude;
+      g.seed = seed;
+      lidar3d::run_global_trials(world,
+                                 {{"vdt-global-3d", &vdt, o6.optimizer, 0.1, 1.0},
+                                  {"vdt-global-3d-rebuilt", &rebuilt, o6r.optimizer, 0.25, 2.0}},
+                                 fp, g);
+    }
+    std::printf("wrote %s/table.csv, table.md, trajectory.png, errors.png%s (%.1f s)\n",
+                out.c_str(), global_trials > 0 ? ", global.csv, global_trials.csv" : "", seconds());
   } catch (const std::exception& e) {
     std::fprintf(stderr, "error: %s\n", e.what());
     return 1;

@@ -14,6 +14,7 @@
 #include "vdtnav/core/pose3.hpp"
 #include "vdtnav/estimation/vdt_localizer3d.hpp"
 #include "vdtnav/map/grid.hpp"
+#include "vdtnav/map/vdt_field.hpp"
 #include "vdtnav/sim/lidar3d_simulator.hpp"
 #include "vdtnav/sim/trajectory.hpp"
 
@@ -98,6 +99,29 @@ struct RealScans {
 /// Builds the map of the odd scans, localizes the even ones, writes table.csv and table.md.
 /// \throws vdtnav::Error for a bad folder, pose file or cloud.
 void run_real_scans(const RealScans& options);
+
+/// Global localization trials (global_trials.cpp): `--global-trials N`.
+struct GlobalTrials {
+  std::string out;
+  int trials = 40;
+  double voxel = 0.0;            ///< the drive's voxel edge (readings per scan as the drive's)
+  double sigma_gravity = 0.005;  ///< the IMU's roll and pitch noise, radians
+  unsigned seed = 1;
+};
+
+/// A map the trials run on: its rows' name and its VDT.
+struct TrialMap {
+  std::string name;
+  const vdtnav::VdtField3* map;
+  vdtnav::VdtOptimizerOptions optimizer;  ///< the refinement: the map's tracker's
+  double tolerance = 0.1;                 ///< metres: found when this near the truth
+  double attitude_tolerance = 1.0;        ///< degrees: and this near
+};
+
+/// Runs the trials on each map (the first: the VDT of `world`, where the scans are cast) and
+/// writes global.csv and global_trials.csv.
+void run_global_trials(const vdtnav::OccupancyGrid<3>& world, const std::vector<TrialMap>& maps,
+                       const Footprint& fp, const GlobalTrials& options);
 
 /// Draws trajectory.png (top view over the footprint) and errors.png (errors with +-2 sigma).
 void draw_figures(const std::string& out, const Footprint& fp,
