@@ -25,6 +25,7 @@
 #include <Eigen/Eigenvalues>
 
 #include "cli_runner.hpp"
+#include "imu_runs.hpp"
 #include "vdtnav/core/pose3.hpp"
 #include "vdtnav/io/imu_table.hpp"
 #include "vdtnav/io/tum_trajectory.hpp"
@@ -122,26 +123,7 @@ const Fixture& fixture() {
     Fixture x;
     x.dir = fs::path(VDTNAV_TEST_TMP) / ("cli3d_" + std::to_string(::getpid()));
     fs::create_directories(x.dir / "scans");
-    sim::Room3dOptions ro;
-    ro.resolution = 0.1;
-    ro.wall_thickness = 0.2;
-    const sim::Room3d room = sim::generate_room3d(ro);
-    // The room's voxels moved by half a voxel, so that their centres sit mid-voxel on the
-    // lattice map3d voxelizes on (multiples of the resolution): the map rebuilt from the centres
-    // is the world the scans are cast in.
-    const Eigen::Vector3i n = room.occupancy.size();
-    OccupancyGrid<3> world(
-        n, GridFrame<3>(0.1, room.occupancy.frame().origin() - Eigen::Vector3d::Constant(0.05)), 0);
-    std::ofstream map(x.dir / "room.csv");
-    map << "x,y,z\n";
-    for (int k = 0; k < n.z(); ++k)
-      for (int j = 0; j < n.y(); ++j)
-        for (int i = 0; i < n.x(); ++i)
-          if (room.occupancy(Eigen::Vector3i(i, j, k)) != 0) {
-            world(Eigen::Vector3i(i, j, k)) = 1;
-            const Eigen::Vector3d c = world.frame().cell_center(Eigen::Vector3i(i, j, k));
-            map << c.x() << "," << c.y() << "," << c.z() << "\n";
-          }
+    OccupancyGrid<3> world = test::write_room_map(x.dir / "room.csv");
     sim::Lidar3dSpec spec;
     spec.azimuth_step = 3.14159265358979323846 / 180.0;
     std::mt19937 rng(5);
@@ -381,31 +363,6 @@ TEST(Cli3d, InitGlobalFindsTheFirstScanWithNoPriorAndRefusesAMapThatExplainsNone
   EXPECT_TRUE(load_tum_trajectory((none / "trajectory.tum").string()).poses.empty());
 }
 
-/// A slalom from standstill on a circle of 1.5 m about (4, 5) in the room, 1.2 m up, level,
-/// facing along it: theta(t) = 0.6 (1 - cos pi t) + 0.15 t^2, the turn rate swinging between
-/// -1.4 and 2.6 rad/s.
-sim::MotionState3 slalom(double t) {
-  const double th = 0.6 * (1.0 - std::cos(kPi * t)) + 0.15 * t * t, r = 1.5;
-  const double w = 0.6 * kPi * std::sin(kPi * t) + 0.3 * t;     // theta'
-  const double dw = 0.6 * kPi * kPi * std::cos(kPi * t) + 0.3;  // theta''
-  sim::MotionState3 m;
-  m.pose = pose3_from_xyz_rpy(4.0 + r * std::cos(th), 5.0 + r * std::sin(th), 1.2, 0.0, 0.0,
-                              th + kPi / 2);
-  m.velocity = r * w * Eigen::Vector3d(-std::sin(th), std::cos(th), 0.0);
-  m.acceleration = r * dw * Eigen::Vector3d(-std::sin(th), std::cos(th), 0.0) -
-                   r * w * w * Eigen::Vector3d(std::cos(th), std::sin(th), 0.0);
-  m.body_rates = Eigen::Vector3d(0.0, 0.0, w);
-  return m;
-}
-
-/// A robot creeping at 0.3 m/s along x on a slope: rolled 2 degrees, pitched -1.5 (constant).
-sim::MotionState3 creep(double t) {
-  sim::MotionState3 m;
-  m.pose = pose3_from_xyz_rpy(3.0 + 0.3 * t, 4.0, 1.2, 2.0 * kPi / 180, -1.5 * kPi / 180, 0.2);
-  m.velocity = Eigen::Vector3d(0.3, 0.0, 0.0);
-  return m;
-}
-
 /// Scans of the room every 0.5 s for 4 s along `trajectory` (files named by their stamps,
 /// 100.0, 100.5, ...) and an IMU at 200 Hz with the BMI088's noise and a bias within the
 /// settings' sigma (imu.csv); returns the scans' true poses.
@@ -424,15 +381,7 @@ std::vector<Pose3> write_imu_run(const fs::path& dir, sim::MotionState3 (*trajec
     std::snprintf(name, sizeof name, "%.1f.pcd", 100.0 + 0.5 * k);
     write_pcd(dir / "scans" / name, scan.points);
   }
-  sim::ImuSimulation is;
-  const ImuNoise noise;
-  is.gyro_noise_density = noise.gyro_noise_density;
-  is.accel_noise_density = noise.accel_noise_density;
-  is.gyro_bias = Eigen::Vector3d(0.5e-3, -0.5e-3, 0.8e-3);
-  is.accel_bias = Eigen::Vector3d(0.01, -0.015, 0.01);
-  save_imu_csv((dir / "imu.csv").string(),
-               sim::simulate_imu([trajectory](double t) { return trajectory(t - 100.0); }, 99.5,
-                                 104.1, is, rng));
+  save_imu_csv((dir / "imu.csv").string(), test::imu_along(trajectory, 100.0, rng));
   return truth;
 }
 
@@ -456,7 +405,7 @@ TEST(Cli3d, AnImuCsvPredictsTheMotionBetweenSparseScansWhereConstantVelocityFail
   // velocity from the last two estimates is off by up to ~1 rad there.
   const Fixture& f = fixture();
   const fs::path dir = f.dir / "slalom", log = dir / "run.log";
-  const std::vector<Pose3> truth = write_imu_run(dir, slalom, 8);
+  const std::vector<Pose3> truth = write_imu_run(dir, test::slalom, 8);
   const std::string base = "localize3d --map " + (f.dir / "room.csv").string() + " --scans " +
                            (dir / "scans").string() + " --init 5.6,5.1,1.2,0,0,1.6";
   ASSERT_EQ(
@@ -484,7 +433,7 @@ TEST(Cli3d, FourDofHoldsRollAndPitchAtGravitysWithItsSigma) {
   // stay held at the start's (level), 2 degrees off, and the position pays for it.
   const Fixture& f = fixture();
   const fs::path dir = f.dir / "slope", log = dir / "run.log";
-  const std::vector<Pose3> truth = write_imu_run(dir, creep, 9);
+  const std::vector<Pose3> truth = write_imu_run(dir, test::creep, 9);
   const std::string base = "localize3d --map " + (f.dir / "room.csv").string() + " --scans " +
                            (dir / "scans").string() + " --dof 4 --init 3.05,4.0,1.2,0,0,0.2";
   ASSERT_EQ(

@@ -4,19 +4,26 @@
 // the map frame), one pose-table row per scan, and errors that name what the bag has.
 // Skips when the data is absent.
 #include <gtest/gtest.h>
+#include <rosbag/bag.h>
+#include <sensor_msgs/Imu.h>
+#include <sensor_msgs/PointCloud2.h>
 #include <unistd.h>
 
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <random>
 #include <string>
 #include <vector>
 
 #include "cli_runner.hpp"
+#include "imu_runs.hpp"
 #include "vdtnav/io/tum_trajectory.hpp"
 #include "vdtnav/ros/bag_reader.hpp"
 #include "vdtnav/ros/cloud_points.hpp"
 #include "vdtnav/ros/scan_sequence.hpp"
+#include "vdtnav/sim/lidar3d_simulator.hpp"
 
 namespace vdtnav {
 namespace {
@@ -168,6 +175,103 @@ TEST(CliBags, Localize3dTakesABagsCloudsOneRowEach) {
   EXPECT_NEAR(tum.front().t, 1e-9 * static_cast<double>(first_stamp), 1e-5);
   EXPECT_LT(tum.front().pose.translation().norm(), 0.05);
   EXPECT_LT(Eigen::AngleAxisd(tum.front().pose.linear()).angle(), 0.01);
+  fs::remove_all(d);
+}
+
+// A ROS 1 bag as a spinning LiDAR and an IMU record it: the slalom of imu_runs.hpp scanned every
+// 0.5 s (PointCloud2 in base_link, no odometry) with sensor_msgs/Imu at 200 Hz (rates,
+// accelerations, orientation), localized with --imu-topic: the rates are preintegrated between
+// the clouds as --imu does with a CSV; without them (constant velocity) the slalom is lost.
+TEST(CliBags, Localize3dPreintegratesABagsImuBetweenItsClouds) {
+  if (run_cli("localize3d --help", fs::path(VDTNAV_TEST_TMP) / "l3d_help.txt") != 0) {
+    GTEST_SKIP() << "built without the 3D commands";
+  }
+  const fs::path d = work_dir("bag_imu");
+  const OccupancyGrid<3> world = test::write_room_map(d / "room.csv");
+  std::mt19937 rng(8);
+  std::vector<Pose3> truth;
+  {
+    rosbag::Bag bag((d / "run.bag").string(), rosbag::bagmode::Write);
+    for (const ImuSample& s : test::imu_along(test::slalom, 100.0, rng)) {
+      sensor_msgs::Imu m;
+      m.header.stamp = ::ros::Time(s.t);
+      m.header.frame_id = "base_link";
+      const Eigen::Quaterniond q(test::slalom(s.t - 100.0).pose.linear());
+      m.orientation.x = q.x();
+      m.orientation.y = q.y();
+      m.orientation.z = q.z();
+      m.orientation.w = q.w();
+      m.angular_velocity.x = s.gyro.x();
+      m.angular_velocity.y = s.gyro.y();
+      m.angular_velocity.z = s.gyro.z();
+      m.linear_acceleration.x = s.accel.x();
+      m.linear_acceleration.y = s.accel.y();
+      m.linear_acceleration.z = s.accel.z();
+      bag.write("/imu", ::ros::Time(s.t), m);
+    }
+    sim::Lidar3dSpec spec;
+    spec.azimuth_step = kPi / 180.0;
+    for (int k = 0; k <= 8; ++k) {
+      const double t = 100.0 + 0.5 * k;
+      truth.push_back(test::slalom(t - 100.0).pose);
+      const sim::Lidar3dScan scan = sim::simulate_lidar3d_scan(world, truth.back(), spec, rng);
+      std::vector<float> xyz;
+      for (const Eigen::Vector3d& p : scan.points) {
+        if (!p.allFinite()) continue;
+        xyz.insert(xyz.end(), {static_cast<float>(p.x()), static_cast<float>(p.y()),
+                               static_cast<float>(p.z())});
+      }
+      sensor_msgs::PointCloud2 c;
+      c.header.stamp = ::ros::Time(t);
+      c.header.frame_id = "base_link";
+      c.height = 1;
+      c.width = static_cast<std::uint32_t>(xyz.size() / 3);
+      c.point_step = 12;
+      c.row_step = 12 * c.width;
+      c.is_dense = true;
+      for (const auto& [name, offset] : {std::pair<const char*, int>{"x", 0}, {"y", 4}, {"z", 8}}) {
+        sensor_msgs::PointField f;
+        f.name = name;
+        f.offset = offset;
+        f.datatype = sensor_msgs::PointField::FLOAT32;
+        f.count = 1;
+        c.fields.push_back(f);
+      }
+      c.data.resize(xyz.size() * sizeof(float));
+      std::memcpy(c.data.data(), xyz.data(), c.data.size());
+      bag.write("/points", ::ros::Time(t), c);
+    }
+    bag.close();
+  }
+  const std::string base = "localize3d --map " + (d / "room.csv").string() + " --bag " +
+                           (d / "run.bag").string() +
+                           " --odom-topic none --init 5.6,5.1,1.2,0,0,1.6";
+  const auto worst = [&](const fs::path& out, std::size_t* poses) {
+    const std::vector<StampedPose3> tum =
+        load_tum_trajectory((out / "trajectory.tum").string()).poses;
+    *poses = tum.size();
+    double w = 0.0;
+    for (const StampedPose3& p : tum) {
+      const auto i = static_cast<std::size_t>(std::lround((p.t - 100.0) / 0.5));
+      w = std::max(w, (p.pose.translation() - truth[i].translation()).norm());
+    }
+    return w;
+  };
+  ASSERT_EQ(run_cli(base + " --imu-topic /imu --out " + (d / "with").string(), d / "with.txt"), 0)
+      << read_all(d / "with.txt");
+  EXPECT_TRUE(contains(read_all(d / "with.txt"), "IMU: 8 of the 8 scans after the first"))
+      << read_all(d / "with.txt");
+  std::size_t n = 0;
+  const double with = worst(d / "with", &n);
+  EXPECT_EQ(n, 9U);
+  EXPECT_LT(with, 0.03);
+  run_cli(base + " --out " + (d / "without").string(), d / "without.txt");
+  const double without = worst(d / "without", &n);
+  std::printf(
+      "bag with --imu-topic: 9 clouds within %.3f m; constant velocity: %zu converged, "
+      "worst %.3f m\n",
+      with, n, without);
+  EXPECT_TRUE(n < 9 || without > 0.1);
   fs::remove_all(d);
 }
 
