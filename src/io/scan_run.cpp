@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <string_view>
 
 #include <Eigen/Geometry>
@@ -98,6 +99,29 @@ std::vector<Pose3> load_kitti_poses(const std::string& path) {
   std::vector<std::size_t> unused;
   io_text::read_data_lines(path, "KITTI poses", false, parse_kitti_line, poses, unused);
   return poses;
+}
+
+std::vector<double> load_scan_times(const std::string& path) {
+  static constexpr std::array<const char*, 1> kNames = {"t"};
+  std::vector<double> times;
+  std::vector<std::size_t> unused;
+  double previous = -std::numeric_limits<double>::infinity();
+  io_text::read_data_lines(
+      path, "scan times", false,
+      [&](std::string_view line, double& out) -> std::string {
+        std::vector<std::string_view> f;
+        std::array<double, 1> v{};
+        if (std::string error = io_text::parse_finite_fields(line, kNames, f, v); !error.empty())
+          return error;
+        if (!(v[0] > previous)) {
+          return "expected a stamp after the line before's (" + std::to_string(previous) +
+                 " s), got " + std::to_string(v[0]);
+        }
+        previous = out = v[0];
+        return {};
+      },
+      times, unused);
+  return times;
 }
 
 ScanPoseFile load_scan_poses(const std::string& path) {

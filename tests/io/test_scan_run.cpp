@@ -80,6 +80,31 @@ TEST(ScanRun, AKittiLineThatIsNotARotationOrNotTwelveNumbersSaysWhere) {
             std::string::npos);
 }
 
+TEST(ScanRun, ScanTimesReadAsKittisTimesTxtAndSayWhereALineIsWrong) {
+  const std::string dir = tmp_dir("scan_run");
+  write_file(dir + "/times.txt", "# stamps\n0.000000e+00\n1.038500e-01\n\n2.074000e-01\n");
+  const std::vector<double> t = load_scan_times(dir + "/times.txt");
+  ASSERT_EQ(t.size(), 3u);
+  EXPECT_EQ(t[0], 0.0);
+  EXPECT_EQ(t[1], 0.10385);
+  EXPECT_EQ(t[2], 0.2074);
+  write_file(dir + "/two.txt", "0.0\n0.1 0.2\n");
+  EXPECT_NE(error_of<FormatError>([&] {
+              (void)load_scan_times(dir + "/two.txt");
+            }).find("two.txt:2: expected 1 fields (t)"),
+            std::string::npos);
+  write_file(dir + "/back.txt", "0.0\n0.2\n0.1\n");
+  EXPECT_NE(error_of<FormatError>([&] {
+              (void)load_scan_times(dir + "/back.txt");
+            }).find("back.txt:3: expected a stamp after the line before's"),
+            std::string::npos);
+  write_file(dir + "/nan.txt", "0.0\nnan\n");
+  EXPECT_NE(error_of<FormatError>([&] {
+              (void)load_scan_times(dir + "/nan.txt");
+            }).find("nan.txt:2: t: expected a finite number"),
+            std::string::npos);
+}
+
 TEST(ScanRun, KittiPosesGoToTheCloudsInNameOrderAndMustCountThem) {
   const std::string dir = tmp_dir("scan_run");
   fs::create_directories(dir + "/run");

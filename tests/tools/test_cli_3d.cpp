@@ -421,6 +421,36 @@ TEST(Cli3d, AnImuCsvPredictsTheMotionBetweenSparseScansWhereConstantVelocityFail
   std::printf("with the IMU: worst %.3f m / %.4f rad\n", m, rad);
   EXPECT_LT(m, 0.03);
   EXPECT_LT(rad, 0.01);
+  // The same scans named as KITTI names them (000000.pcd, ...): their names are not stamps, so
+  // the IMU's time base needs --times (one stamp a line); without it the run says so.
+  const fs::path kitti = dir / "kitti";
+  fs::create_directories(kitti);
+  std::ofstream times(dir / "times.txt");
+  for (int k = 0; k <= 8; ++k) {
+    char from[32], to[32];
+    std::snprintf(from, sizeof from, "%.1f.pcd", 100.0 + 0.5 * k);
+    std::snprintf(to, sizeof to, "%06d.pcd", k);
+    fs::copy_file(dir / "scans" / from, kitti / to, fs::copy_options::overwrite_existing);
+    times << 100.0 + 0.5 * k << "\n";
+  }
+  times.close();
+  const std::string kitti_base = "localize3d --map " + (f.dir / "room.csv").string() + " --scans " +
+                                 kitti.string() + " --init 5.6,5.1,1.2,0,0,1.6 --imu " +
+                                 (dir / "imu.csv").string();
+  ASSERT_EQ(run_cli(kitti_base + " --times " + (dir / "times.txt").string() + " --out " +
+                        (dir / "kitti_out").string(),
+                    log),
+            0)
+      << read_all(log);
+  const TumTrajectory kt = load_tum_trajectory((dir / "kitti_out" / "trajectory.tum").string());
+  ASSERT_EQ(kt.poses.size(), 9u) << read_all(log);
+  for (std::size_t k = 0; k < 9; ++k) {
+    EXPECT_NEAR(kt.poses[k].t, 100.0 + 0.5 * static_cast<double>(k), 1e-9);
+    EXPECT_LT((kt.poses[k].pose.translation() - truth[k].translation()).norm(), 0.03) << k;
+  }
+  run_cli(kitti_base + " --out " + (dir / "kitti_no_times").string(), log);
+  EXPECT_NE(read_all(log).find("not on the IMU's time base; give --times FILE"), std::string::npos)
+      << read_all(log);
   run_cli(base + " --out " + (dir / "without").string(), log);  // constant velocity
   const std::size_t n = worst_errors(dir / "without", truth, &m, &rad);
   std::printf("constant velocity: %zu of 9 converged, worst %.3f m / %.4f rad\n", n, m, rad);

@@ -51,6 +51,7 @@ struct Localize3dArgs {
                                                        base_frame = "base_link";
   std::string lidar_pose;
   std::string imu_csv;  // --imu FILE: t,wx,wy,wz,ax,ay,az
+  std::string times;    // --times FILE: a stamp per scan (KITTI's times.txt)
   int dof = 6;
   Map3dOptions map_options;
   double voxel = -1.0;
@@ -339,6 +340,20 @@ void run_localize3d(const Localize3dArgs& a) {
       !a.bag.empty() ? std::vector<std::string>{}
                      : (a.scans_dir.empty() ? a.scans : point_cloud_files_in(a.scans_dir));
   const bool sequence = scans.size() > 1 || !a.bag.empty();
+  // The scans' stamps: --times (a line per scan), else their names' (stamp_of_name), else their
+  // index.
+  std::vector<double> stamps;
+  if (!a.times.empty()) {
+    if (!a.bag.empty())
+      throw UsageError(
+          "localize3d: --times is for --scan/--scans (a bag's clouds carry their stamps)");
+    stamps = load_scan_times(a.times);
+    if (stamps.size() != scans.size()) {
+      throw FormatError(a.times, 0,
+                        "expected a stamp per scan: " + std::to_string(stamps.size()) +
+                            " stamps for " + std::to_string(scans.size()) + " scans");
+    }
+  }
   // The outputs appear when the run completes: a sequence's folder is written under a temporary
   // name beside it (staged_output.hpp), so a bad scan in the middle leaves nothing behind.
   StagedOutputs staged;
@@ -538,7 +553,8 @@ void run_localize3d(const Localize3dArgs& a) {
       // this sweep, within 1 s of its readings), else its first reading's
       double first = std::numeric_limits<double>::infinity();
       for (const double t : times.seconds) first = std::min(first, t);
-      const std::optional<double> named = stamp_of_name(scans[k]);
+      const std::optional<double> named =
+          stamps.empty() ? stamp_of_name(scans[k]) : std::optional<double>(stamps[k]);
       const double stamp = named && std::abs(*named - first) < 1.0 ? *named : first;
       for (double& t : times.seconds) t -= stamp;
     }
@@ -546,7 +562,8 @@ void run_localize3d(const Localize3dArgs& a) {
     const ObservationSet3 obs = observations_from_cloud(cloud, co, times.seconds);
     const double read_ms =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-    handle(scans[k], stamp_of(scans[k], k), obs, cloud.size(), read_ms, std::nullopt);
+    handle(scans[k], stamps.empty() ? stamp_of(scans[k], k) : stamps[k], obs, cloud.size(), read_ms,
+           std::nullopt);
   }
 #ifdef VDTNAV_CLI_ROS
   if (!a.bag.empty()) {
@@ -624,6 +641,13 @@ void run_localize3d(const Localize3dArgs& a) {
     std::fprintf(stderr,
                  "[localize3d] IMU: %zu of the %zu scans after the first predicted from it\n",
                  imu_steps, count - std::min<std::size_t>(count, 1));
+    if (imu_steps == 0 && count > 1) {
+      std::fprintf(stderr,
+                   "[localize3d] warning: no scan interval lies within the IMU's samples [%.3f, "
+                   "%.3f] s: the scans' stamps (from --times, their names, or their index) are "
+                   "not on the IMU's time base; give --times FILE\n",
+                   imu.front().t, imu.back().t);
+    }
   }
   if (count > 0) {
     const eval::ErrorStatistics ms = eval::error_statistics(scan_ms);
@@ -692,6 +716,11 @@ void add_localize3d_command(CLI::App& app) {
                   "its covariance (noise and biases: settings localize3d.imu); roll and pitch "
                   "from gravity for --init global and --dof 4")
       ->check(input_file("--imu"));
+  cmd->add_option("--times", args->times,
+                  "--scan/--scans: a stamp per scan in name order (seconds, one a line, as "
+                  "KITTI's times.txt), for clouds whose names are not their stamps (default: the "
+                  "names', else the index); the time base of --imu and deskewing")
+      ->check(input_file("--times"));
   cmd->add_option("--init", args->init,
                   "Initial guess x,y,z,roll,pitch,yaw (metres, radians; default identity), or "
                   "'global': found from the first scans with no prior (branch and bound over "

@@ -41,6 +41,13 @@ inline constexpr double kKittiRotationTolerance = 1e-3;
 ///         3x3 part is not a rotation within kKittiRotationTolerance.
 [[nodiscard]] std::vector<Pose3> load_kitti_poses(const std::string& path);
 
+/// \brief Loads a scan time file (KITTI's times.txt): one stamp per line and cloud, in name order,
+/// seconds, strictly increasing; blank and '#' lines are ignored. For clouds whose names are not
+/// their stamps (000042.pcd), what `vdtnav localize3d --scans DIR --times FILE` stamps them with.
+/// \throws IoError when the file cannot be read, FormatError (`file:line: what was expected`) for
+///         a line that is not one finite number or a stamp not after the one before.
+[[nodiscard]] std::vector<double> load_scan_times(const std::string& path);
+
 /// \brief The forms a scan pose file may take.
 enum class ScanPoseFormat { kKitti, kTum };
 
