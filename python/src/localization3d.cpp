@@ -9,6 +9,7 @@
 #include "bindings.hpp"
 #include "numpy_points.hpp"
 #include "results.hpp"
+#include "vdtnav/estimation/global_localization3d.hpp"
 #include "vdtnav/estimation/recovering_localizer3d.hpp"
 #include "vdtnav/estimation/vdt_localizer3d.hpp"
 #ifdef VDTNAV_PYTHON_3D_FILES
@@ -156,6 +157,56 @@ void bind_localization3d(py::module_& m) {
       .def_property_readonly("name", [](const Localizer3& self) { return self.localizer->name(); })
       .def_property_readonly("recoveries",
                              [](const Localizer3& self) { return self.localizer->recoveries(); });
+
+  py::class_<GlobalLocalization3Result>(m, "GlobalLocalization3",
+                                        "What a 3D global localization found "
+                                        "(global_localize3d).")
+      .def_readonly("result", &GlobalLocalization3Result::result,
+                    "The refined best pose (LocalizationResult3): status converged when "
+                    "accepted, refused when unexplained or ambiguous.")
+      .def_readonly("ambiguous", &GlobalLocalization3Result::ambiguous,
+                    "A distinct pose explains the cloud as well: refused, not guessed.")
+      .def_property_readonly(
+          "alternatives",
+          [](const GlobalLocalization3Result& g) {
+            py::list l;
+            for (const Pose3& p : g.alternatives) l.append(pose_array(p));
+            return l;
+          },
+          "The distinct refined poses (4 x 4) that explain the cloud as well.")
+      .def_readonly("explained", &GlobalLocalization3Result::explained,
+                    "Fraction of the readings the best pose explains.")
+      .def_readonly("nodes", &GlobalLocalization3Result::nodes, "Cubes scored.")
+      .def_readonly("seconds", &GlobalLocalization3Result::seconds,
+                    "Wall time of the search and the refinement.");
+
+  m.def(
+      "global_localize3d",
+      [](std::shared_ptr<Map3> map, const py::array& cloud, double roll, double pitch,
+         const py::object& settings, double sigma_range, double voxel, double range_min,
+         double range_max, const py::object& sensor_in_robot) {
+        VdtLocalizer3Options o = options3(settings, 6);
+        GlobalLocalization3Options g = o.global;
+        g.optimizer = o.optimizer;
+        const ObservationSet3 obs =
+            observations(cloud, sigma_range, range_min, range_max,
+                         voxel < 0.0 ? map->field().resolution() : voxel, sensor_in_robot);
+        py::gil_scoped_release release;
+        const GlobalLocalizer3 global(map->field(), g);
+        return global.localize(obs, roll, pitch);
+      },
+      py::arg("map").none(false), py::arg("cloud"), py::arg("roll") = 0.0, py::arg("pitch") = 0.0,
+      py::arg("settings") = py::none(), py::arg("sigma_range") = 0.03, py::arg("voxel") = -1.0,
+      py::arg("range_min") = 0.0, py::arg("range_max") = std::numeric_limits<double>::infinity(),
+      py::arg("sensor_in_robot") = py::none(),
+      (std::string("Localizes one cloud with no prior, as `vdtnav localize3d --init global` does "
+                   "its first scans: branch and bound over x, y, z, yaw with roll and pitch "
+                   "given (radians, from gravity; 0: level), refined in 6 DOF "
+                   "(global_localization3d.hpp; settings: section localize3d.global). The search "
+                   "grid is built on each call (~0.6 s on the CATEC map). Returns a "
+                   "GlobalLocalization3.") +
+       kCloudArgs)
+          .c_str());
 
   m.def(
       "make_localizer3d",

@@ -202,6 +202,48 @@ def test_localize3d_equals_the_cpp_api(tmp_path):
     assert r.covariance.shape == (6, 6)
 
 
+def crate_points(rng, n):
+    """n points on the faces of a 1 x 1 x 1.5 m crate standing in a corner of room3d_points's room."""
+    lo, hi = np.array([4.5, 3.5, 0.0]), np.array([5.5, 4.5, 1.5])
+    axis = rng.integers(0, 3, n)
+    p = lo + rng.uniform(0, 1, (n, 3)) * (hi - lo)
+    side = rng.integers(0, 2, n)
+    p[np.arange(n), axis] = np.where(side == 1, hi[axis], lo[axis])
+    return p
+
+
+def test_global_localize3d_finds_the_cloud_with_no_prior_and_refuses_a_twin(tmp_path):
+    # room3d_points's room (6 x 5 x 3 m, a small panel by one wall) is nearly its own half turn:
+    # a cloud there is refused as ambiguous, the twin among the alternatives. With a crate in one
+    # corner the same cloud, from (3, 2.5, 1.2) turned 0.7 rad, is found with no guess.
+    rng = np.random.default_rng(5)
+    yaw = 0.7
+    rot = np.array([[np.cos(yaw), -np.sin(yaw), 0], [np.sin(yaw), np.cos(yaw), 0], [0, 0, 1]])
+    position = np.array([3.0, 2.5, 1.2])
+    room = room3d_points(rng, 40000)
+    write_cloud(tmp_path / "bare.csv", room)
+    write_cloud(tmp_path / "crate.csv", np.vstack([room, crate_points(rng, 6000)]))
+    bare = vdtnav.load_map(str(tmp_path / "bare.csv"), resolution=0.1)
+    g = vdtnav.global_localize3d(bare, (room3d_points(rng, 3000) - position) @ rot)
+    assert g.result.status == "refused" and g.ambiguous
+    # Seen from the room's centre: the pose and its half turn about the vertical, both there.
+    headings = [np.arctan2(p[1, 0], p[0, 0]) for p in [g.result.pose] + g.alternatives]
+    for want in (yaw, yaw - np.pi):
+        assert min(abs(np.angle(np.exp(1j * (h - want)))) for h in headings) < 0.02, headings
+    for p in [g.result.pose] + g.alternatives:
+        np.testing.assert_allclose(p[:3, 3], position, atol=0.06)
+    m = vdtnav.load_map(str(tmp_path / "crate.csv"), resolution=0.1)
+    world = np.vstack([room3d_points(rng, 3000), crate_points(rng, 500)])
+    cloud = (world - position) @ rot  # the sensor frame: R^T (p - t)
+    g = vdtnav.global_localize3d(m, cloud)
+    assert g.result.status == "converged", (g.explained, g.ambiguous)
+    np.testing.assert_allclose(g.result.pose[:3, 3], position, atol=0.06)
+    np.testing.assert_allclose(g.result.pose[:3, :3], rot, atol=0.02)
+    assert g.explained > 0.9 and not g.ambiguous and g.nodes > 0 and g.seconds > 0
+    with pytest.raises(TypeError):
+        vdtnav.global_localize3d(None, cloud)
+
+
 def test_evaluation_against_hand_computed_values():
     times = np.array([0.0, 1.0, 2.0])
     truth = np.array([[0, 0, 0], [1, 0, 0], [1, 1, np.pi / 2]], float)

@@ -23,7 +23,8 @@ STUB = pathlib.Path(__file__).resolve().parents[1] / "vdtnav" / "__init__.pyi"
 # Bound only in some builds: with the 3D front ends (pcl, octomap; VDTNAV_PYTHON_3D_FILES) and
 # with the ROS front end (VDTNAV_PYTHON_ROS). Each group is all there or all absent.
 OPTIONAL = [
-    {"OdometryStep3", "localize3d", "Localizer3D", "make_localizer3d", "read_point_cloud"},
+    {"OdometryStep3", "localize3d", "Localizer3D", "make_localizer3d", "read_point_cloud",
+     "GlobalLocalization3", "global_localize3d"},
     {"bag_topics", "read_bag_scans", "read_bag_clouds"},
 ]
 # Dunder methods a class may bind that the stub must then declare.

@@ -503,6 +503,48 @@ def localize3d(
     pose of the sensor in the robot frame. NaN and inf points are dropped. map=None is refused
     (TypeError)."""
 
+class GlobalLocalization3:
+    """What a 3D global localization found (global_localize3d)."""
+
+    @property
+    def result(self) -> LocalizationResult3:
+        """The refined best pose (LocalizationResult3): status converged when accepted, refused
+        when unexplained or ambiguous."""
+    @property
+    def ambiguous(self) -> bool:
+        """A distinct pose explains the cloud as well: refused, not guessed."""
+    @property
+    def alternatives(self) -> list[_F64]:
+        """The distinct refined poses (4 x 4) that explain the cloud as well."""
+    @property
+    def explained(self) -> float:
+        """Fraction of the readings the best pose explains."""
+    @property
+    def nodes(self) -> int:
+        """Cubes scored."""
+    @property
+    def seconds(self) -> float:
+        """Wall time of the search and the refinement."""
+
+def global_localize3d(
+    map: Map3,
+    cloud: _Points,
+    roll: float = 0.0,
+    pitch: float = 0.0,
+    settings: _SettingsLike = None,
+    sigma_range: float = 0.03,
+    voxel: float = -1.0,
+    range_min: float = 0.0,
+    range_max: float = ...,
+    sensor_in_robot: npt.ArrayLike | None = None,
+) -> GlobalLocalization3:
+    """Localizes one cloud with no prior, as `vdtnav localize3d --init global` does its first
+    scans: branch and bound over x, y, z, yaw with roll and pitch given (radians, from gravity;
+    0: level), refined in 6 DOF (global_localization3d.hpp; settings: section localize3d.global).
+    The search grid is built on each call (~0.6 s on the CATEC map). Returns a
+    GlobalLocalization3. cloud, sigma_range, voxel, range_min / range_max, sensor_in_robot: as
+    localize3d's. map=None is refused (TypeError)."""
+
 class Localizer3D:
     """The sequential 3D localizer with lost detection and recovery (`vdtnav localize3d
     --scans`): make_localizer3d."""
