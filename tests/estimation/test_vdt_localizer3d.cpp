@@ -329,7 +329,7 @@ TEST(RecoveringLocalizer3, ATeleportedRobotIsFoundAgainByGlobalLocalizationAndNo
   b.reset(d.truth[0], start_covariance());
   const Pose3 carry = pose3_from_xyz_rpy(0.0, 3.5, 0.0, 0.0, 0.0, kPi / 2);
   int found_after = -1, found_without = 0, wrong = 0;
-  for (std::size_t k = 1; k < 50; ++k) {
+  for (std::size_t k = 1; k < 32; ++k) {
     const bool moved = k >= 15;
     // The teleport: about the robot's own position (the room's free space holds both).
     Pose3 where = d.truth[k];
