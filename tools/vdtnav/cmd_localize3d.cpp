@@ -195,7 +195,10 @@ class ImuMotion {
     velocity_known_ = false;
     if (has_prev_ && prev_converged_ && converged && t > prev_t_ &&
         imu_covers(*samples_, prev_t_, t)) {
-      const ImuIncrement inc = integrate_imu(*samples_, prev_t_, t, noise_);
+      // The interval step(t) integrated, when it did.
+      const ImuIncrement inc = last_ && last_->t0 == prev_t_ && last_->t1 == t
+                                   ? *last_
+                                   : integrate_imu(*samples_, prev_t_, t, noise_);
       const Eigen::Vector3d g(0.0, 0.0, -noise_.gravity);
       const double dt = inc.dt;
       const Eigen::Vector3d va = (pose.translation() - prev_pose_.translation() -
@@ -206,6 +209,7 @@ class ImuMotion {
           (prev_covariance_.topLeftCorner<3, 3>() + covariance.topLeftCorner<3, 3>()) / (dt * dt);
       velocity_known_ = true;
     }
+    last_.reset();
     has_prev_ = true;
     prev_t_ = t;
     prev_pose_ = pose;
@@ -215,9 +219,10 @@ class ImuMotion {
 
   /// \return the step from the last scan added to a scan at t, or none when the samples do not
   /// cover the interval.
-  [[nodiscard]] std::optional<OdometryStep3> step(double t) const {
+  [[nodiscard]] std::optional<OdometryStep3> step(double t) {
     if (!has_prev_ || !(t > prev_t_) || !imu_covers(*samples_, prev_t_, t)) return std::nullopt;
-    const ImuIncrement inc = integrate_imu(*samples_, prev_t_, t, noise_);
+    last_ = integrate_imu(*samples_, prev_t_, t, noise_);
+    const ImuIncrement& inc = *last_;
     const Eigen::Vector3d v = velocity_known_ ? velocity_ : Eigen::Vector3d::Zero();
     const Eigen::Matrix3d sv =
         velocity_known_ ? velocity_covariance_ : Eigen::Matrix3d(4.0 * Eigen::Matrix3d::Identity());
@@ -248,6 +253,7 @@ class ImuMotion {
   Matrix6d prev_covariance_ = Matrix6d::Zero();
   Eigen::Vector3d velocity_ = Eigen::Vector3d::Zero();
   Eigen::Matrix3d velocity_covariance_ = Eigen::Matrix3d::Zero();
+  std::optional<ImuIncrement> last_;  ///< step()'s, over [prev_t_, t]: add(t) reuses it
 };
 
 void run_localize3d(const Localize3dArgs& a) {
@@ -426,51 +432,46 @@ void run_localize3d(const Localize3dArgs& a) {
     const auto t1 = std::chrono::steady_clock::now();
     r.cloud_points = cloud_points;
     r.readings = obs.size();
-    if (accepted == 0 && global) {  // --init global: no prior
-      // Roll and pitch from the IMU: gravity over the 0.2 s before the scan (--imu, or a bag's
-      // rates), else the bag's orientation (--imu-topic), else the sensor taken as level.
-      const std::optional<GravityAttitude> gravity = imu_motion.gravity(t, 0.2);
-      std::optional<OdometryStep3> att = odometry;
-      if (gravity) {
-        att = odometry.value_or(OdometryStep3{});
-        att->roll = gravity->roll;
-        att->pitch = gravity->pitch;
+    if (accepted == 0) {
+      if (global) {  // --init global: no prior
+        // Roll and pitch from the IMU: gravity over the 0.2 s before the scan (--imu, or a bag's
+        // rates), else the bag's orientation (--imu-topic), else the sensor taken as level.
+        double roll = 0.0, pitch = 0.0;
+        bool imu = true;
+        if (const std::optional<GravityAttitude> gravity = imu_motion.gravity(t, 0.2)) {
+          roll = gravity->roll;
+          pitch = gravity->pitch;
+        } else if (odometry && odometry->has_attitude()) {
+          roll = odometry->roll;
+          pitch = odometry->pitch;
+        } else {
+          imu = false;
+        }
+        if (!imu && !said_level && !a.quiet) {
+          said_level = true;
+          std::fprintf(stderr,
+                       "[localize3d] --init global: no IMU, roll and pitch searched from level "
+                       "(the refinement frees them%s)\n",
+                       a.dof == 4 ? "; --dof 4 holds them level" : "");
+        }
+        const GlobalLocalization3Result g = global->localize(obs, roll, pitch);
+        r.result = g.result;
+        if (!a.quiet) {
+          const std::string why = g.ambiguous ? ", " + std::to_string(g.alternatives.size()) +
+                                                    " distinct poses explain it as well"
+                                              : "";
+          std::fprintf(stderr,
+                       "[localize3d] --init global, scan %zu: %s (%.0f %% explained%s), %zu "
+                       "cubes in %.3f s\n",
+                       count,
+                       g.result.status == LocalizationStatus::kConverged ? "accepted"
+                       : g.ambiguous                                     ? "refused, ambiguous"
+                                                                         : "refused",
+                       100.0 * g.explained, why.c_str(), g.nodes, g.seconds);
+        }
+      } else {  // from --init (or the prediction while nothing was accepted)
+        r.result = localize_from_guess(tracker.tracker(), obs, last);
       }
-      const bool imu = att && att->has_attitude();
-      if (!imu && !said_level && !a.quiet) {
-        said_level = true;
-        std::fprintf(stderr,
-                     "[localize3d] --init global: no IMU, roll and pitch searched from level "
-                     "(the refinement frees them%s)\n",
-                     a.dof == 4 ? "; --dof 4 holds them level" : "");
-      }
-      const GlobalLocalization3Result g =
-          global->localize(obs, imu ? att->roll : 0.0, imu ? att->pitch : 0.0);
-      r.result = g.result;
-      r.explained = g.explained;
-      if (!a.quiet) {
-        std::fprintf(stderr,
-                     "[localize3d] --init global, scan %zu: %s (%.0f %% explained%s), %zu "
-                     "cubes in %.3f s\n",
-                     count,
-                     g.result.status == LocalizationStatus::kConverged ? "accepted"
-                     : g.ambiguous                                     ? "refused, ambiguous"
-                                                                       : "refused",
-                     100.0 * g.explained,
-                     g.ambiguous ? (", " + std::to_string(g.alternatives.size()) +
-                                    " distinct poses explain it as well")
-                                       .c_str()
-                                 : "",
-                     g.nodes, g.seconds);
-      }
-      if (r.result.status == LocalizationStatus::kConverged)
-        tracker.reset(r.result.pose, r.result.covariance);
-      if (a.dof == 4 && r.result.has_covariance) {
-        r.result.covariance =
-            tracker.tracker().with_held_attitude(obs, r.result, lo.held_attitude_sigma);
-      }
-    } else if (accepted == 0) {  // from --init (or the prediction while nothing was accepted)
-      r.result = localize_from_guess(tracker.tracker(), obs, last);
       r.explained = r.result.explained;
       if (r.result.status == LocalizationStatus::kConverged)
         tracker.reset(r.result.pose, r.result.covariance);

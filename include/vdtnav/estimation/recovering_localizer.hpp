@@ -58,8 +58,8 @@ using TrackerT = std::conditional_t<Dim == 2, Localizer2D, Localizer3D>;
 /// candidates; in 3D the maps carry no unknown space, so every reading the map does not explain
 /// contradicts, and re-acquisition runs on the lost scans 1, 2, 4, 8, ...: multi-start around the
 /// prediction (multi_start.hpp), then a branch and bound over the whole map (x, y, z, yaw with
-/// roll and pitch from gravity: global_localization3d.hpp; recovering_localizer3d.hpp). The window test, the statuses and the adoption are
-/// RecoveringLocalizerT's, shared.
+/// roll and pitch from gravity: global_localization3d.hpp; recovering_localizer3d.hpp). The window
+/// test, the statuses and the adoption are RecoveringLocalizerT's, shared.
 template <int Dim>
 class Reacquisition {
  public:
