@@ -1,57 +1,25 @@
 #include "vdtnav/io/sparse_vdt_map_file.hpp"
+#include "binary_file.hpp"
 #include "text_fields.hpp"
 
-#include <fcntl.h>
-#include <sys/mman.h>
-#include <sys/stat.h>
-#include <unistd.h>
-
-#include <algorithm>
-#include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
-#include <filesystem>
-#include <fstream>
+#include <iterator>
 #include <limits>
 #include <memory>
 #include <vector>
 
-#include <zlib.h>
-
 namespace vdtnav {
 namespace {
 
-static_assert(__BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__,
-              "the sparse map file maps native arrays: little-endian hosts only");
-
-namespace fs = std::filesystem;
+using binary_file::crc_of;
+using binary_file::get;
+using binary_file::put;
 
 constexpr char kSparseMagic[8] = {'V', 'D', 'T', 'N', 'A', 'V', 'S', 'P'};
 constexpr std::uint64_t kHeaderBytes = 112;
 constexpr std::uint64_t kPage = 4096;
-
-std::uint32_t crc_of(const unsigned char* p, std::size_t n,
-                     std::uint32_t crc = static_cast<std::uint32_t>(crc32(0L, Z_NULL, 0))) {
-  while (n > 0) {  // zlib takes uInt lengths
-    const auto m = static_cast<uInt>(std::min<std::size_t>(n, 1U << 30));
-    crc = static_cast<std::uint32_t>(crc32(crc, p, m));
-    p += m;
-    n -= m;
-  }
-  return crc;
-}
-
-template <typename T>
-void put(std::vector<unsigned char>& h, std::size_t at, const T& v) {
-  std::memcpy(h.data() + at, &v, sizeof(T));
-}
-template <typename T>
-T get(const unsigned char* h, std::size_t at) {
-  T v;
-  std::memcpy(&v, h + at, sizeof(T));
-  return v;
-}
 
 std::uint64_t product(const Eigen::Vector3i& n, int add = 0) {
   return static_cast<std::uint64_t>(n.x() + add) * static_cast<std::uint64_t>(n.y() + add) *
@@ -105,50 +73,16 @@ void save_sparse_vdt_map(const std::string& path, const SparseVdtMap3& map) {
     body_crc = crc_of(static_cast<const unsigned char*>(p), n, body_crc);
   put<std::uint32_t>(head, 108, body_crc);
 
-  const std::string tmp = path + ".tmp";
-  bool created = false;
-  try {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) throw IoError(tmp + ": cannot open for writing: " + std::strerror(errno));
-    created = true;
-    out.write(reinterpret_cast<const char*>(head.data()),
-              static_cast<std::streamsize>(head.size()));
-    for (const auto& [p, n] : parts)
-      out.write(static_cast<const char*>(p), static_cast<std::streamsize>(n));
-    out.close();
-    if (!out) throw IoError(tmp + ": write failed");
-    std::error_code ec;
-    fs::rename(tmp, path, ec);
-    if (ec) throw IoError(path + ": cannot move " + tmp + " into place: " + ec.message());
-  } catch (...) {
-    std::error_code ec;
-    if (created) fs::remove(tmp, ec);
-    throw;
-  }
+  std::vector<binary_file::Piece> pieces(std::begin(parts), std::end(parts));
+  binary_file::write_atomically(path, head, pieces);
 }
 
 SparseVdtMap3 load_sparse_vdt_map(const std::string& path, bool verify_payload) {
   const auto fail = [&path](const std::string& what) { throw FormatError(path, 0, what); };
-  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
-  if (fd < 0) throw IoError(path + ": cannot open sparse vdtnav map file: " + std::strerror(errno));
-  struct stat st {};
-  if (::fstat(fd, &st) != 0) {
-    const int e = errno;
-    ::close(fd);
-    throw IoError(path + ": cannot stat: " + std::strerror(e));
-  }
-  const auto found = static_cast<std::uint64_t>(st.st_size);
-  if (found == 0) {
-    ::close(fd);
-    fail("not a sparse vdtnav map file (it is empty; expected \"VDTNAVSP\")");
-  }
-  void* addr = ::mmap(nullptr, found, PROT_READ, MAP_SHARED, fd, 0);
-  const int map_errno = errno;
-  ::close(fd);  // the mapping keeps the file
-  if (addr == MAP_FAILED) throw IoError(path + ": cannot map: " + std::strerror(map_errno));
-  std::shared_ptr<const void> mapping(
-      addr, [found](const void* p) { ::munmap(const_cast<void*>(p), found); });
-  const auto* h = static_cast<const unsigned char*>(addr);
+  const binary_file::MappedFile file = binary_file::map_file(path, "sparse vdtnav map file");
+  const std::uint64_t found = file.size;
+  std::shared_ptr<const void> mapping = file.owner;
+  const unsigned char* h = file.data;
 
   if (found < 8 || std::memcmp(h, kSparseMagic, 8) != 0) {
     fail("not a sparse vdtnav map file (it does not start with \"VDTNAVSP\")");

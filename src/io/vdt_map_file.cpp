@@ -1,4 +1,5 @@
 #include "vdtnav/io/vdt_map_file.hpp"
+#include "binary_file.hpp"
 #include "text_fields.hpp"
 
 #include <algorithm>
@@ -33,13 +34,7 @@ To bit_cast(const From& x) {
 }
 
 std::uint32_t crc_update(std::uint32_t crc, const unsigned char* p, std::size_t n) {
-  while (n > 0) {  // zlib takes uInt lengths
-    const auto m = static_cast<uInt>(std::min<std::size_t>(n, 1U << 30));
-    crc = static_cast<std::uint32_t>(crc32(crc, p, m));
-    p += m;
-    n -= m;
-  }
-  return crc;
+  return binary_file::crc_of(p, n, crc);
 }
 
 /// Little-endian writer that keeps the CRC-32 of everything written.
@@ -123,12 +118,7 @@ class Reader {
 template <int Dim>
 void save_vdt_map(const std::string& path, const VdtMap<Dim>& map) {
   VDTNAV_CHECK((map.size().array() >= 2).all(), "save_vdt_map: the map is empty (not built)");
-  const std::string tmp = path + ".tmp";
-  bool created = false;  // remove only what we made
-  try {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) throw IoError(tmp + ": cannot open for writing: " + std::strerror(errno));
-    created = true;
+  binary_file::write_atomically(path, [&map](std::ofstream& out) {
     const GridFrame<Dim>& f = map.frame();
     Writer w(out);
     w.raw(kMagic, sizeof(kMagic));
@@ -144,16 +134,7 @@ void save_vdt_map(const std::string& path, const VdtMap<Dim>& map) {
     w.array(map.nearest_cells().values());
     w.array(map.field().coefficients());
     w.le(w.crc(), 4);
-    out.close();
-    if (!out) throw IoError(tmp + ": write failed");
-    std::error_code ec;
-    fs::rename(tmp, path, ec);
-    if (ec) throw IoError(path + ": cannot move " + tmp + " into place: " + ec.message());
-  } catch (...) {
-    std::error_code ec;
-    if (created) fs::remove(tmp, ec);
-    throw;
-  }
+  });
 }
 
 template <int Dim>
