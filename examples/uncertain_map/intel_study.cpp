@@ -1,8 +1,9 @@
 // The Intel Research Lab with an uncertain map: the map fitted to the scans of the last third at
-// their corrected poses with a stated pose uncertainty, the first two thirds localized on it
-// (vdt-opt with the real-log settings of `vdtnav localize`), the relation NEES (Kuemmerle's
-// relations, SPEC's definition) with and without the map's covariance, and on the occupancy map
-// of the same scans for reference.
+// their corrected poses with a stated pose uncertainty (what `vdtnav map --uncertain` fits, saved
+// to intel.umap and mapped back, as `vdtnav localize --map intel.umap` reads it), the first two
+// thirds localized on it (vdt-opt with the real-log settings of `vdtnav localize`), the relation
+// NEES (Kuemmerle's relations, SPEC's definition) with and without the map's covariance, and on
+// the occupancy map of the same scans for reference; with the time each map took to build.
 
 #include <chrono>
 #include <cmath>
@@ -22,6 +23,7 @@
 #include "vdtnav/io/odometry_table.hpp"
 #include "vdtnav/io/relations.hpp"
 #include "vdtnav/mapping/occupancy_mapper.hpp"
+#include "vdtnav/mapping/uncertain_map_file.hpp"
 #include "vdtnav/viz/plot.hpp"
 
 namespace study {
@@ -65,23 +67,29 @@ void intel_uncertain_map(const std::string& data, const std::string& out,
     map_lasers.push_back(laser);
   }
   mapping::UncertainMapOptions mo;
-  mo.spacing = settings.spacing;
-  const mapping::UncertainVdtMap map = mapping::UncertainVdtMap::fit(scans, mo);
-  const auto& sm = map.summary();
-  std::printf(
-      "[intel] %zu scans (sigma %.3f m, %.4f rad, range %.3f m), h = %.2f m: %d control "
-      "points, %d boundary points, %d Eikonal samples: fit %.1f s (%d iterations%s), "
-      "covariance %.1f s%s\n",
-      scans.size(), settings.pose_sigma, settings.heading_sigma, settings.sigma_range,
-      settings.spacing, sm.control_points, sm.boundary_points, sm.eikonal_samples, sm.fit_seconds,
-      sm.iterations, sm.converged ? "" : ", NOT converged", sm.covariance_seconds,
-      sm.covariance_ok ? "" : " (FAILED)");
-  const VdtMap2 fitted = map.to_vdt_map(0.05);
+  mo.spacing = settings.spacing;  // 0: from the data
   // The occupancy map of the same scans, as the Intel study builds it.
+  const auto t_ogm = Clock::now();
   mapping::OccupancyMapperOptions oo;
   oo.resolution = 0.05;
   const mapping::OccupancyMap ogm = mapping::build_occupancy_map(map_poses, map_lasers, oo);
   const VdtMap2 ogm_vdt = VdtMap2::build(ogm.occupancy);
+  const double ogm_s = std::chrono::duration<double>(Clock::now() - t_ogm).count();
+  const mapping::UncertainVdtMap fitted_map = mapping::UncertainVdtMap::fit(scans, mo);
+  mapping::save_uncertain_map(out + "/intel.umap", fitted_map, ogm.cells);
+  const mapping::UncertainMapFile file = mapping::load_uncertain_map(out + "/intel.umap");
+  const mapping::UncertainVdtMap& map = file.map;
+  const auto& sm = fitted_map.summary();
+  std::printf(
+      "[intel] %zu scans (sigma %.3f m, %.4f rad, range %.3f m), h = %.2f m: %d control "
+      "points, %d boundary points (%d cleared by the beams), %d Eikonal and %d free-space "
+      "samples: fit %.1f s (%d iterations%s), covariance %.1f s%s; saved to intel.umap and "
+      "mapped back\n",
+      scans.size(), settings.pose_sigma, settings.heading_sigma, settings.sigma_range, sm.spacing,
+      sm.control_points, sm.boundary_points, sm.cleared_readings, sm.eikonal_samples,
+      sm.free_space_samples, sm.fit_seconds, sm.iterations, sm.converged ? "" : ", NOT converged",
+      sm.covariance_seconds, sm.covariance_ok ? "" : " (FAILED)");
+  const VdtMap2 fitted = map.to_vdt_map(0.05);
 
   // Localize scans 0..split-1 with the raw odometry.
   std::vector<std::size_t> idx(split);
@@ -112,7 +120,8 @@ void intel_uncertain_map(const std::string& data, const std::string& out,
   };
   std::ofstream csv(out + "/intel.csv");
   csv << "map_model,relations,rel_trans_mean_m,rel_rot_mean_deg,rel_nees_used,rel_nees_mean,"
-         "rel_nees_median,rel_nees_inside_7.81,ms_per_scan,ms_median,ms_p99,ms_max\n";
+         "rel_nees_median,rel_nees_inside_7.81,ms_per_scan,ms_median,ms_p99,ms_max,build_s,"
+         "covariance_s\n";
   const Eigen::Matrix3d p0 = Eigen::Vector3d(0.1 * 0.1, 0.1 * 0.1, 0.05 * 0.05).asDiagonal();
   for (const Model& m : models) {
     LocalizerSettings s = base;
@@ -146,11 +155,14 @@ void intel_uncertain_map(const std::string& data, const std::string& out,
         (m.name + " map").c_str(), rel.used, rel.translation.mean, rel.rotation.mean * kRadToDeg,
         rn.used, rn.mean, rn.median, 100.0 * rn.fraction_inside, ms, per_scan.median, per_scan.p99,
         per_scan.max);
+    // The map's build: the occupancy grid and its VDT, or the fit and its covariance.
+    const bool is_ogm = m.vdt == &ogm_vdt;
     char line[512];
-    std::snprintf(line, sizeof line, "%s,%zu,%.5f,%.4f,%zu,%.3f,%.3f,%.4f,%.3f,%.3f,%.3f,%.3f\n",
-                  m.name.c_str(), rel.used, rel.translation.mean, rel.rotation.mean * kRadToDeg,
-                  rn.used, rn.mean, rn.median, rn.fraction_inside, ms, per_scan.median,
-                  per_scan.p99, per_scan.max);
+    std::snprintf(
+        line, sizeof line, "%s,%zu,%.5f,%.4f,%zu,%.3f,%.3f,%.4f,%.3f,%.3f,%.3f,%.3f,%.2f,%.2f\n",
+        m.name.c_str(), rel.used, rel.translation.mean, rel.rotation.mean * kRadToDeg, rn.used,
+        rn.mean, rn.median, rn.fraction_inside, ms, per_scan.median, per_scan.p99, per_scan.max,
+        is_ogm ? ogm_s : sm.fit_seconds, is_ogm ? 0.0 : sm.covariance_seconds);
     csv << line;
   }
 

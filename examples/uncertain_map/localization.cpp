@@ -1,6 +1,7 @@
 // Localization on the Experiment 2 map: the same simulated run localized with the constant
 // per-reading map floor and with the fitted map's own covariance (thesis ch. 5's use of the map
-// uncertainty), by vdt-opt and vdt-ekf.
+// uncertainty), by vdt-opt and vdt-ekf; and on the occupancy map of the same mapping scans (the
+// cells their readings fall in, 5 cm) for reference.
 
 #include <chrono>
 #include <cmath>
@@ -67,6 +68,15 @@ std::vector<LocalizationRow> localize_on_fitted_map(const mapping::UncertainVdtM
   // The localizers read the fitted field sampled at 5 cm (outside the band: the exact VDT of the
   // observed points).
   const VdtMap2 vdt = map.to_vdt_map(0.05);
+  // The occupancy map of the same scans: the 5 cm cells the readings fall in.
+  const Eigen::Vector2i ogm_size =
+      (map.cells().cast<double>() * (map.spacing() / 0.05)).array().ceil().cast<int>().matrix();
+  OccupancyGrid<2> ogm(ogm_size, GridFrame<2>(0.05, map.origin()));
+  for (const Eigen::Vector2d& p : map.observed_points()) {
+    const Eigen::Vector2i c = ogm.frame().cell_of(p);
+    if (ogm.contains(c)) ogm(c) = 1;
+  }
+  const VdtMap2 ogm_vdt = VdtMap2::build(ogm);
   const sim::SimulatedRun run =
       sim::simulate_run(world, drive, lidar, sim::NoiseProfile::table_3_2_sigma(), seed + 7919u);
   std::printf(
@@ -75,14 +85,16 @@ std::vector<LocalizationRow> localize_on_fitted_map(const mapping::UncertainVdtM
       run.size());
   struct Model {
     std::string name;
+    const VdtMap2* vdt;
     const mapping::UncertainVdtMap* uncertainty;
     double map_sigma;
   };
   // The constant floor: the sensor model's default, resolution / sqrt(12) per reading,
   // independent. The map's covariance: propagate() with the correlations between the endpoints,
   // and per reading only what the fit's boundary floor says the spline cannot follow.
-  const std::vector<Model> models = {{"constant-floor", nullptr, -1.0},
-                                     {"map-variance", &map, map.approximation_sigma()}};
+  const std::vector<Model> models = {{"ogm constant-floor", &ogm_vdt, nullptr, -1.0},
+                                     {"constant-floor", &vdt, nullptr, -1.0},
+                                     {"map-variance", &vdt, &map, map.approximation_sigma()}};
   const Eigen::Matrix3d p0 = Eigen::Vector3d(0.05 * 0.05, 0.05 * 0.05, 0.02 * 0.02).asDiagonal();
   std::vector<LocalizationRow> rows;
   std::vector<Track> opt_tracks;
@@ -95,11 +107,11 @@ std::vector<LocalizationRow> localize_on_fitted_map(const mapping::UncertainVdtM
       if (std::string(method) == "vdt-opt") {
         VdtOptimizerOptions o;
         o.sensor = so;
-        loc = std::make_unique<VdtOptimizationLocalizer>(vdt, o);
+        loc = std::make_unique<VdtOptimizationLocalizer>(*m.vdt, o);
       } else {
         VdtEkfOptions o;
         o.sensor = so;
-        loc = std::make_unique<VdtEkfLocalizer>(vdt, o);
+        loc = std::make_unique<VdtEkfLocalizer>(*m.vdt, o);
       }
       loc->reset(run.truth[0], p0);
       std::vector<double> nees;
@@ -143,10 +155,10 @@ std::vector<LocalizationRow> localize_on_fitted_map(const mapping::UncertainVdtM
           a.interval.contains(a.anees) ? "" : " (outside)", row.ms.mean, row.ms.median, row.ms.p99,
           row.ms.max);
       rows.push_back(row);
-      if (std::string(method) == "vdt-opt") opt_tracks.push_back(std::move(tr));
+      if (std::string(method) == "vdt-opt" && m.vdt == &vdt) opt_tracks.push_back(std::move(tr));
     }
   }
-  plot_tracks({models[0].name, models[1].name}, opt_tracks, out + "/localization_errors.png");
+  plot_tracks({models[1].name, models[2].name}, opt_tracks, out + "/localization_errors.png");
   return rows;
 }
 

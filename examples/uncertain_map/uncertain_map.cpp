@@ -59,7 +59,9 @@ int main(int argc, char** argv) {
   app.add_option("--intel-heading-sigma", intel.heading_sigma,
                  "Intel: stated sigma of the corrected poses' heading, radians")
       ->capture_default_str();
-  app.add_option("--intel-spacing", intel.spacing, "Intel: control point spacing, metres")
+  app.add_option(
+         "--intel-spacing", intel.spacing,
+         "Intel: control point spacing, metres (0: from the data, as vdtnav map --uncertain)")
       ->capture_default_str();
   CLI11_PARSE(app, argc, argv);
   try {

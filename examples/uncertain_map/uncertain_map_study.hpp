@@ -113,7 +113,7 @@ struct IntelSettings {
   double pose_sigma = 0.05;     ///< of the corrected poses' x and y, metres
   double heading_sigma = 0.01;  ///< of the corrected poses' heading, radians
   double sigma_range = 0.02;    ///< of the ranges, metres
-  double spacing = 0.25;        ///< control points, metres
+  double spacing = 0.0;         ///< control points, metres; 0: from the data
 };
 
 /// The Intel lab: the uncertain map fitted to the last third's scans at the corrected poses with

@@ -4,7 +4,9 @@
 
 #include <chrono>
 #include <cstddef>
+#include <cstdint>
 #include <functional>
+#include <memory>
 #include <vector>
 
 #include <ceres/problem.h>
@@ -20,6 +22,19 @@ using Clock = std::chrono::steady_clock;
 inline double seconds_since(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
 }
+
+/// The fitted map's covariance arrays (UncertainVdtMap::CovarianceArrays points into them).
+struct OwnedCovariance {
+  std::vector<float> z;
+  std::vector<std::uint32_t> y_row_start, y_column;
+  std::vector<float> y_value;
+  std::vector<float> cell_forms;
+};
+
+/// Entries of a column of Y below this fraction of its largest are left out: a scan's pose error
+/// moves the control points near what it saw; its share of Y Y^T elsewhere is below 1e-6 of the
+/// share where it is largest.
+inline constexpr double kYDrop = 1e-3;
 
 }  // namespace vdtnav::detail
 
@@ -39,6 +54,7 @@ struct UncertainVdtMap::Problem {
   UncertainMapOptions options;
   double band = 0.0, near = 0.0;
   double raster_res = 0.05;
+  Eigen::Vector2i raster_size = Eigen::Vector2i::Zero();  ///< cells of the raster VDT
   std::vector<double> initial;
 
   Problem(UncertainVdtMap& m, const UncertainMapOptions& o);
@@ -80,11 +96,12 @@ struct UncertainVdtMap::Problem {
   /// Adds the weak prior on every control point.
   void add_control_prior(ceres::Problem* problem);
 
-  ceres::Solver::Summary solve(ceres::Problem* problem) const;
+  /// \param iterative steps by CGNR instead of a sparse Cholesky factorisation (the fit).
+  ceres::Solver::Summary solve(ceres::Problem* problem, bool iterative) const;
 
   /// The marginal covariance of the control points, cov(c) = Z + Y Y^T
-  /// (uncertain_map_covariance.cpp).
-  void covariance(ceres::Problem* problem, const std::vector<double*>& pose_blocks,
+  /// (uncertain_map_covariance.cpp); the problem is freed once its information is read.
+  void covariance(std::unique_ptr<ceres::Problem> problem, const std::vector<double*>& pose_blocks,
                   const std::vector<Eigen::Matrix3d>* considered);
 
   /// The variance of DT_v per cell the spline cannot follow

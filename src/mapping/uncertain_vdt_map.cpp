@@ -1,6 +1,8 @@
 #include "vdtnav/mapping/uncertain_vdt_map.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <string>
 #include <unordered_map>
 #include <utility>
 
@@ -9,7 +11,7 @@
 namespace vdtnav::mapping {
 
 void UncertainMapOptions::validate() const {
-  VDTNAV_CHECK(std::isfinite(spacing) && spacing > 0.0, "uncertain map: spacing must be > 0");
+  VDTNAV_CHECK(std::isfinite(spacing), "uncertain map: spacing must be finite");
   VDTNAV_CHECK(std::isfinite(band), "uncertain map: band must be finite");
   VDTNAV_CHECK(samples_per_axis >= 1, "uncertain map: samples_per_axis must be >= 1");
   VDTNAV_CHECK(std::isfinite(eikonal_sigma) && eikonal_sigma > 0.0,
@@ -21,6 +23,125 @@ void UncertainMapOptions::validate() const {
                "uncertain map: near, boundary_sigma and cut_locus_ratio must be finite");
   VDTNAV_CHECK(max_iterations >= 1 && threads >= 1,
                "uncertain map: max_iterations and threads must be >= 1");
+}
+
+double spacing_from_data(const std::vector<MapScan>& scans) {
+  std::vector<double> gaps;
+  for (const MapScan& s : scans) {
+    const auto& p = s.points.points;
+    for (std::size_t i = 1; i < p.size(); ++i) {
+      const double g = (p[i] - p[i - 1]).norm();
+      if (std::isfinite(g) && g < 0.5) gaps.push_back(g);
+    }
+  }
+  if (gaps.empty()) return 0.25;
+  auto mid = gaps.begin() + static_cast<std::ptrdiff_t>(gaps.size() / 2);
+  std::nth_element(gaps.begin(), mid, gaps.end());
+  return std::clamp(std::round(5.0 * *mid / 0.05) * 0.05, 0.2, 0.5);
+}
+
+// ------------------------------------------------------------------------------- parts
+
+void UncertainVdtMap::index_cells() {
+  cell_slot_.assign(active_.size(), -1);
+  band_cells_ = 0;
+  for (std::size_t c = 0; c < active_.size(); ++c) {
+    if (active_[c]) cell_slot_[c] = static_cast<std::int32_t>(band_cells_++);
+  }
+  v_col_.clear();
+  v_row_.clear();
+  const int pw = cells_.x() + 3;
+  v_col_.resize(coef_.size() / 2, -1);
+  v_row_.resize(coef_.size() / 2, -1);
+  for (std::size_t k = 0; k < vars_.size(); ++k) {
+    const int v = vars_[k];
+    if (v < 0) continue;
+    v_col_[static_cast<std::size_t>(v)] = static_cast<int>(k % pw);
+    v_row_[static_cast<std::size_t>(v)] = static_cast<int>(k / pw);
+  }
+}
+
+UncertainVdtMap::Parts UncertainVdtMap::parts() const {
+  Parts p;
+  p.spacing = h_;
+  p.approximation_sigma = approximation_sigma_;
+  p.origin = origin_;
+  p.cells = cells_;
+  p.active = active_;
+  p.approximation_var = approximation_var_;
+  p.vars.assign(vars_.begin(), vars_.end());
+  p.coefficients = coef_;
+  p.observed = observed_;
+  p.covariance = cov_;
+  return p;
+}
+
+UncertainVdtMap UncertainVdtMap::assemble(Parts p) {
+  const auto fail = [](const std::string& what) { throw ConfigError("uncertain map: " + what); };
+  if (!(std::isfinite(p.spacing) && p.spacing > 0.0) || !p.origin.allFinite() ||
+      !(std::isfinite(p.approximation_sigma) && p.approximation_sigma >= 0.0)) {
+    fail("spacing, origin or approximation sigma out of range");
+  }
+  if (p.cells.x() < 1 || p.cells.y() < 1 || static_cast<double>(p.cells.x()) * p.cells.y() >= 2e8) {
+    fail("a lattice of " + std::to_string(p.cells.x()) + " x " + std::to_string(p.cells.y()) +
+         " cells");
+  }
+  const auto n_cells = static_cast<std::size_t>(p.cells.x()) * p.cells.y();
+  const auto n_padded = static_cast<std::size_t>(p.cells.x() + 3) * (p.cells.y() + 3);
+  if (p.active.size() != n_cells || p.vars.size() != n_padded ||
+      (!p.approximation_var.empty() && p.approximation_var.size() != n_cells) ||
+      p.coefficients.size() % 2 != 0) {
+    fail("array sizes do not match the lattice");
+  }
+  const auto n = static_cast<std::int64_t>(p.coefficients.size() / 2);
+  for (const std::int32_t v : p.vars) {
+    if (v < -1 || v >= n) fail("a control point's index is out of range");
+  }
+  // Every cell of the band has its 16 control points.
+  const int pw = p.cells.x() + 3;
+  for (int j = 0; j < p.cells.y(); ++j) {
+    for (int i = 0; i < p.cells.x(); ++i) {
+      if (!p.active[static_cast<std::size_t>(j) * p.cells.x() + i]) continue;
+      for (int k = 0; k < 16; ++k) {
+        if (p.vars[static_cast<std::size_t>(j + k / 4) * pw + i + k % 4] < 0)
+          fail("a cell of the band lacks a control point");
+      }
+    }
+  }
+  for (const double c : p.coefficients) {
+    if (!std::isfinite(c)) fail("a control point is not finite");
+  }
+  for (const float v : p.approximation_var) {
+    if (!(std::isfinite(v) && v >= 0.0f)) fail("an approximation variance is not finite and >= 0");
+  }
+  UncertainVdtMap m;
+  m.h_ = p.spacing;
+  m.approximation_sigma_ = p.approximation_sigma;
+  m.origin_ = p.origin;
+  m.cells_ = p.cells;
+  m.active_ = std::move(p.active);
+  m.approximation_var_ = std::move(p.approximation_var);
+  m.vars_.assign(p.vars.begin(), p.vars.end());
+  m.coef_ = std::move(p.coefficients);
+  m.observed_ = std::move(p.observed);
+  m.index_cells();
+  const CovarianceArrays& c = p.covariance;
+  if (!c.empty()) {
+    if (c.y_row_start == nullptr || c.cell_forms == nullptr ||
+        (c.y_row_start[2 * n] > 0 && (c.y_column == nullptr || c.y_value == nullptr))) {
+      fail("the covariance's arrays are incomplete");
+    }
+    for (std::int64_t r = 0; r < 2 * n; ++r) {
+      if (c.y_row_start[r + 1] < c.y_row_start[r]) fail("Y's row offsets decrease");
+    }
+    for (std::uint32_t e = 0; e < c.y_row_start[2 * n]; ++e) {
+      if (c.y_column[e] >= c.y_columns) fail("a column of Y is out of range");
+    }
+    m.cov_ = c;
+  }
+  m.summary_.control_points = static_cast<int>(n);
+  m.summary_.covariance_ok = !c.empty();
+  return m;
 }
 
 // ------------------------------------------------------------------------------- queries
@@ -57,28 +178,20 @@ UncertainMapSample UncertainVdtMap::evaluate(const Eigen::Vector2d& p) const {
   spline_field(b, c, &out.value, &out.jacobian);
   out.inside = true;
   if (cov_.empty()) return out;
-  // cov(DT_v) = sum_{k,l} w_k w_l cov(c_k, c_l) = B Z B^T + (B Y)(B Y)^T over the cell's support.
-  Eigen::Matrix2d cov = Eigen::Matrix2d::Zero();
+  // cov(DT_v) = sum_{k,l} w_k w_l cov(c_k, c_l) over the cell's support: the cell's quadratic
+  // forms (CovarianceArrays::cell_forms) in the products w_k w_l, k <= l.
+  const float* f = cov_.cell_forms + static_cast<std::size_t>(cell_slot_[cell]) * 3 * kFormTerms;
+  double xx = 0.0, xy = 0.0, yy = 0.0;
+  int t = 0;
   for (int k = 0; k < 16; ++k) {
-    const double* zk = &cov_[static_cast<std::size_t>(var[k]) * 49 * 4];
-    for (int l = 0; l < 16; ++l) {
-      const int da = l % 4 - k % 4, db = l / 4 - k / 4;
-      const double* blk = zk + ((db + 3) * 7 + da + 3) * 4;
+    for (int l = k; l < 16; ++l, ++t) {
       const double ww = b.w[k] * b.w[l];
-      cov(0, 0) += ww * blk[0];
-      cov(0, 1) += ww * blk[1];
-      cov(1, 0) += ww * blk[2];
-      cov(1, 1) += ww * blk[3];
+      xx += ww * f[t];
+      xy += ww * f[kFormTerms + t];
+      yy += ww * f[2 * kFormTerms + t];
     }
   }
-  if (y_.cols() > 0) {
-    Eigen::Matrix<double, 2, Eigen::Dynamic> by =
-        Eigen::Matrix<double, 2, Eigen::Dynamic>::Zero(2, y_.cols());
-    for (int k = 0; k < 16; ++k)
-      by += b.w[k] * y_.middleRows<2>(2 * static_cast<Eigen::Index>(var[k]));
-    cov.noalias() += by * by.transpose();
-  }
-  out.covariance = 0.5 * (cov + cov.transpose());
+  out.covariance << xx, xy, xy, yy;
   if (!approximation_var_.empty()) out.covariance.diagonal().array() += approximation_var_[cell];
   return out;
 }
@@ -129,25 +242,31 @@ Eigen::Matrix3d UncertainVdtMap::propagate(const std::vector<Eigen::Vector2d>& q
   const int pw = cells_.x() + 3;
   for (const auto& [v, gv] : g) {
     const int a = v_col_[static_cast<std::size_t>(v)], b = v_row_[static_cast<std::size_t>(v)];
-    const double* zv = &cov_[static_cast<std::size_t>(v) * 49 * 4];
+    const float* zv = cov_.z + static_cast<std::size_t>(v) * 49 * 4;
     for (int db = -3; db <= 3; ++db) {
       for (int da = -3; da <= 3; ++da) {
-        const double* blk = zv + ((db + 3) * 7 + da + 3) * 4;
+        const float* blk = zv + ((db + 3) * 7 + da + 3) * 4;
         if (!std::isfinite(blk[0])) continue;
         const int w = vars_[static_cast<std::size_t>(b + db) * pw + a + da];
         const auto it = g.find(w);
         if (it == g.end()) continue;
-        const Eigen::Map<const Eigen::Matrix<double, 2, 2, Eigen::RowMajor>> z(blk);
+        const Eigen::Matrix2d z =
+            Eigen::Map<const Eigen::Matrix<float, 2, 2, Eigen::RowMajor>>(blk).cast<double>();
         out.noalias() += gv * z * it->second.transpose();
       }
     }
   }
   // (sum_m g_m Y_m)(sum_m g_m Y_m)^T: the scans' pose errors, shared by every control point.
-  if (y_.cols() > 0) {
+  if (cov_.y_columns > 0) {
     Eigen::Matrix<double, 3, Eigen::Dynamic> gy =
-        Eigen::Matrix<double, 3, Eigen::Dynamic>::Zero(3, y_.cols());
-    for (const auto& [v, gv] : g)
-      gy.noalias() += gv * y_.middleRows<2>(2 * static_cast<Eigen::Index>(v));
+        Eigen::Matrix<double, 3, Eigen::Dynamic>::Zero(3, cov_.y_columns);
+    for (const auto& [v, gv] : g) {
+      for (int ch = 0; ch < 2; ++ch) {
+        const std::size_t row = 2 * static_cast<std::size_t>(v) + ch;
+        for (std::uint32_t e = cov_.y_row_start[row]; e < cov_.y_row_start[row + 1]; ++e)
+          gy.col(cov_.y_column[e]).noalias() += gv.col(ch) * static_cast<double>(cov_.y_value[e]);
+      }
+    }
     out.noalias() += gy * gy.transpose();
   }
   return 0.5 * (out + out.transpose());
@@ -156,7 +275,7 @@ Eigen::Matrix3d UncertainVdtMap::propagate(const std::vector<Eigen::Vector2d>& q
 VdtMap2 UncertainVdtMap::to_vdt_map(double resolution) const {
   VDTNAV_CHECK(std::isfinite(resolution) && resolution > 0.0,
                "uncertain map: the resolution of the sampled map must be > 0");
-  VDTNAV_CHECK(raster_ != nullptr, "uncertain map: the map has not been fitted");
+  VDTNAV_CHECK(h_ > 0.0, "uncertain map: the map has not been fitted");
   const Eigen::Vector2i size =
       (cells_.cast<double>() * (h_ / resolution)).array().ceil().cast<int>().matrix();
   OccupancyGrid<2> occupied(size, GridFrame<2>(resolution, origin_));

@@ -21,6 +21,7 @@
 #include "vdtnav/io/carmen_log.hpp"
 #include "vdtnav/io/relations.hpp"
 #include "vdtnav/io/tum_trajectory.hpp"
+#include "vdtnav/mapping/uncertain_map_file.hpp"
 #include "vdtnav/sim/floor_plan.hpp"
 #include "vdtnav/sim/lidar_simulator.hpp"
 #include "vdtnav/sim/route_planner.hpp"
@@ -278,6 +279,100 @@ TEST(CliEndToEnd, MapLocalizeEvalRecoverTheSimulatedTrajectory) {
   EXPECT_GT(json_number(js, "\"relation_nees\"", "mean"), 0.0) << js;
   EXPECT_GE(json_number(js, "\"relation_nees\"", "fraction_inside"), 0.0) << js;
   EXPECT_TRUE(contains(read_all(d / "eval.txt"), "relation NEES (")) << read_all(d / "eval.txt");
+}
+
+// `map --uncertain` writes the uncertain map file of the log's first 20 s; every method localizes
+// on it (`localize --map X.umap`), the VDT methods with the map's covariance in the one they
+// report; the same map from a TUM trajectory of the same poses (`--poses`) is the same file.
+TEST(CliEndToEnd, UncertainMapFileFromTheLogLocalizesEveryMethod) {
+  const Fixture& f = fixture();
+  const std::filesystem::path d = f.dir;
+  const std::string window = " --to " + std::to_string(kT0 + 20.0);
+  ASSERT_EQ(run_cli("map --log " + (d / "run.log").string() + " --resolution 0.05 --out " +
+                        (d / "umap").string() + window +
+                        " --uncertain --pose-sigma 0.02,0.02,0.005 --quiet",
+                    d / "umap.txt"),
+            0)
+      << read_all(d / "umap.txt");
+  EXPECT_TRUE(contains(read_all(d / "umap.txt"), "wrote " + (d / "umap").string() + ".umap"))
+      << read_all(d / "umap.txt");
+  for (const char* ext : {".yaml", ".pgm", ".vdt", ".umap"}) {
+    EXPECT_TRUE(std::filesystem::exists(d / (std::string("umap") + ext))) << ext;
+  }
+  ASSERT_EQ(
+      run_cli("map --log " + (d / "run.log").string() + " --resolution 0.05 --out " +
+                  (d / "umap_tum").string() + window + " --poses " + (d / "truth.tum").string() +
+                  " --uncertain --pose-sigma 0.02,0.02,0.005 --quiet",
+              d / "umap_tum.txt"),
+      0)
+      << read_all(d / "umap_tum.txt");
+  {
+    // The TUM file holds the poses to its printed digits: the same map within a millimetre.
+    const mapping::UncertainMapFile a = mapping::load_uncertain_map((d / "umap.umap").string());
+    const mapping::UncertainMapFile b = mapping::load_uncertain_map((d / "umap_tum.umap").string());
+    ASSERT_EQ(a.map.band_cells(), b.map.band_cells());
+    const auto& pts = a.map.observed_points();
+    int compared = 0;
+    for (std::size_t k = 0; k < pts.size(); k += 17) {
+      const mapping::UncertainMapSample sa = a.map.evaluate(pts[k]), sb = b.map.evaluate(pts[k]);
+      if (!sa.inside || !sb.inside) continue;
+      EXPECT_LT((sa.value - sb.value).norm(), 1e-3);
+      ++compared;
+    }
+    EXPECT_GT(compared, 100);
+  }
+
+  const auto localize = [&](const std::string& map, const std::string& method,
+                            const std::string& out) {
+    EXPECT_EQ(
+        run_cli("localize --map " + (d / map).string() + " --log " + (d / "run.log").string() +
+                    window + " --method " + method + " --all-poses --out " +
+                    (d / (out + ".tum")).string() + " --cov " + (d / (out + ".csv")).string(),
+                d / (out + ".txt")),
+        0)
+        << read_all(d / (out + ".txt"));
+    const TumTrajectory est = load_tum_trajectory((d / (out + ".tum")).string());
+    double sq = 0.0;
+    for (std::size_t k = 0; k < est.poses.size(); ++k) {
+      sq +=
+          (pose2_from_pose3(est.poses[k].pose).head<2>() - f.run.truth[k].head<2>()).squaredNorm();
+    }
+    EXPECT_GE(est.poses.size(), 40u) << method;
+    return std::sqrt(sq / static_cast<double>(std::max<std::size_t>(est.poses.size(), 1)));
+  };
+  for (const std::string method : {"vdt-opt", "vdt-ekf", "udt-opt", "pf"}) {
+    EXPECT_LT(localize("umap.umap", method, "u_" + method), 0.08) << method;
+  }
+  EXPECT_TRUE(contains(read_all(d / "u_vdt-opt.txt"), "uncertain map: h = "))
+      << read_all(d / "u_vdt-opt.txt");
+  // The map's covariance joins vdt-opt's: the same scans mapped with a stated pose noise five
+  // times larger give a map whose covariance is larger, and the poses localized on it report a
+  // larger covariance.
+  ASSERT_EQ(run_cli("map --log " + (d / "run.log").string() + " --resolution 0.05 --out " +
+                        (d / "umap_noisy").string() + window +
+                        " --uncertain --pose-sigma 0.1,0.1,0.025 --quiet",
+                    d / "umap_noisy.txt"),
+            0)
+      << read_all(d / "umap_noisy.txt");
+  (void)localize("umap_noisy.umap", "vdt-opt", "n_vdt-opt");
+  const auto mean_position_variance = [&](const std::string& csv) {
+    std::ifstream in(d / csv);
+    std::string line;
+    std::getline(in, line);
+    double sum = 0.0;
+    int n = 0;
+    while (std::getline(in, line)) {
+      std::vector<std::string> c;
+      std::stringstream ss(line);
+      for (std::string cell; std::getline(ss, cell, ',');) c.push_back(cell);
+      if (c.size() != 9 || c[1] != "converged") continue;
+      sum += std::stod(c[3]) + std::stod(c[6]);
+      ++n;
+    }
+    EXPECT_GT(n, 30) << csv;
+    return sum / std::max(n, 1);
+  };
+  EXPECT_GT(mean_position_variance("n_vdt-opt.csv"), 3.0 * mean_position_variance("u_vdt-opt.csv"));
 }
 
 TEST(CliEndToEnd, AStartFarFromTheTruthIsFoundLostAndRecovered) {

@@ -200,6 +200,21 @@ void run_localize(const LocalizeArgs& a) {
   std::fprintf(stderr, "[localize] map %d x %d cells of %.3f m, VDT built in %.3f s\n",
                map.occupancy.size().x(), map.occupancy.size().y(), map.occupancy.resolution(),
                map.build_seconds);
+  if (map.uncertain != nullptr) {
+    // The map's covariance joins the update's and the reported covariance of the methods that
+    // read the VDT (vdt-opt, vdt-ekf, the beam EKFs); its per-reading floor is the fit's.
+    const mapping::UncertainVdtMap& um = map.uncertain->map;
+    for (VdtSensorModelOptions* s :
+         {&settings.vdt_opt.sensor, &settings.vdt_ekf.sensor, &settings.active_ekf.ekf.sensor,
+          &settings.passive_ekf.ekf.sensor}) {
+      s->map_uncertainty = &um;
+      s->map_sigma = um.approximation_sigma();
+    }
+    std::fprintf(stderr,
+                 "[localize] uncertain map: h = %.2f m, %zu cells in the band, covariance %s\n",
+                 um.spacing(), um.band_cells(),
+                 um.summary().covariance_ok ? "used by the VDT methods" : "absent");
+  }
 #ifdef VDTNAV_CLI_ROS
   ScanRun run = a.bag.empty() ? read_log_run(a) : read_bag_run(a);
 #else
@@ -402,7 +417,10 @@ void add_localize_command(CLI::App& app) {
   auto args = std::make_shared<LocalizeArgs>();
   CLI::App* cmd = app.add_subcommand("localize", "Localize a log's scans on a map");
   // --map, --log and --out are required unless --print-config (checked in run_localize).
-  cmd->add_option("--map", args->map, "ROS map_server YAML (required)")->check(input_file("--map"));
+  cmd->add_option("--map", args->map,
+                  "ROS map_server YAML, or an uncertain map file PREFIX.umap (vdtnav map "
+                  "--uncertain) (required)")
+      ->check(input_file("--map"));
   cmd->add_option("--log", args->log, "CARMEN log, plain or gzip (this or --bag)")
       ->check(input_file("--log"));
 #ifdef VDTNAV_CLI_ROS

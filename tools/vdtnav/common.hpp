@@ -16,6 +16,7 @@
 #include "vdtnav/io/carmen_log.hpp"
 #include "vdtnav/io/ros_map.hpp"
 #include "vdtnav/map/vdt_map.hpp"
+#include "vdtnav/mapping/uncertain_map_file.hpp"
 
 namespace vdtnav::tools {
 
@@ -25,9 +26,13 @@ struct LoadedMap {
   OccupancyGrid<2> occupancy;
   std::unique_ptr<VdtMap2> vdt;
   double build_seconds = 0.0;  ///< time to build the VDT map
+  /// An uncertain map file's map (`vdtnav map --uncertain`); null for a ROS map.
+  std::shared_ptr<const mapping::UncertainMapFile> uncertain;
 };
 
-/// \brief Loads MAP.yaml and builds its VDT map. \throws vdtnav::Error.
+/// \brief Loads MAP.yaml and builds its VDT map, or an uncertain map file (PREFIX.umap): its
+/// occupancy rendering as the occupancy grid, the fitted field sampled at the rendering's
+/// resolution as the VDT map. \throws vdtnav::Error.
 [[nodiscard]] LoadedMap load_map(const std::string& yaml_path);
 
 /// \brief A TUM file as a planar trajectory (z, roll and pitch ignored).

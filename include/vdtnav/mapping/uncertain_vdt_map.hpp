@@ -33,6 +33,15 @@
 ///    scans are aligned by the way. Measured on Experiment 2 (README), the alignment is biased —
 ///    started at the true poses it moves them 4.4 cm away, absorbing what the spline cannot follow
 ///    at corners into the poses — so the default holds the poses and considers their errors.
+///  - free space (free_space): a beam passes through the cells between its sensor and its end.
+///    A reading whose endpoint cell (on the raster of h / 4, at most 5 cm) the beams cross more
+///    often than they end in — a person who walked on, a reflection — is dropped, with the
+///    occupancy grid's rule: l_occ hits + l_free crossings <= 0 (OccupancyMapperOptions' log-odds).
+///    And at an Eikonal sample the beams cross, farther than `near` from the observed points, the
+///    field may not come closer to zero than the observed points are:
+///      r_F = max(0, d(s) - 2 sigma_r - |DT_v(s)|) / free_sigma,  d(s) = distance to the nearest
+///    observed point. Without it the spline carries a wall's zero level a few centimetres on into
+///    a doorway the beams pass through (the wall-end bias, README: Uncertain VDT maps).
 ///  - a weak prior N(c0, prior_sigma^2) on every control point (c0: the exact VDT of the observed
 ///    points at the control point) keeps the control points at the band's edge determined.
 ///
@@ -57,12 +66,16 @@
 /// shows it — a wall end the spline extends a few centimetres into a doorway — it stays unknown.
 ///
 /// A query returns DT_v, its Jacobian and the 2 x 2 covariance of DT_v, B cov(c) B^T over the
-/// cell's 16 control points plus the cell's approximation variance; propagate() gives a pose
+/// cell's 16 control points plus the cell's approximation variance. B cov(c) B^T is a quadratic
+/// form in the cell's 16 B-spline weights, whose 3 x 136 coefficients are kept per cell of the
+/// band (the cell's block of Z + Y Y^T, summed once after the fit): a query costs as much on a
+/// building as on a room, whatever the number of scans. propagate() gives a pose
 /// estimate's map term with the correlations between its readings' endpoints (the local blocks of
 /// Z within three control points, all of Y Y^T, and the approximation variance per cell).
 
 #include <array>
 #include <cstddef>
+#include <cstdint>
 #include <functional>
 #include <memory>
 #include <string>
@@ -81,7 +94,8 @@ namespace vdtnav::mapping {
 
 /// \brief Settings of the fit. Defaults come from the spacing h (documented per field).
 struct UncertainMapOptions {
-  double spacing = 0.2;  ///< h, metres between control points
+  /// h, metres between control points; <= 0: from the data (spacing_from_data()).
+  double spacing = 0.2;
   /// Metres around the observed points where the map is defined (Eikonal samples, unknowns);
   /// < 0: max(0.75, 3 h), past the default gate (0.5 m) of the sensor model.
   double band = -1.0;
@@ -102,6 +116,12 @@ struct UncertainMapOptions {
   /// A sample is on a cut locus when the nearest observed point moves by more than this times
   /// the distance the sample moves (h / 2 along each axis).
   double cut_locus_ratio = 1.5;
+  /// Free space from the beams (see the file comment): readings whose endpoint the beams cross
+  /// more than they end in are dropped, and the Eikonal samples the beams cross keep the field
+  /// off zero there.
+  bool free_space = true;
+  /// sigma of the free-space residual r_F, metres; < 0: h / 10.
+  double free_sigma = -1.0;
   bool compute_covariance = true;
   int max_iterations = 100;
   /// The fit stops when an iteration lowers the cost by less than this fraction. The first few
@@ -113,17 +133,28 @@ struct UncertainMapOptions {
   void validate() const;
 };
 
+/// \brief The spacing of the control points the readings support: five times the median gap
+/// between consecutive readings of a scan on one surface (gaps under 0.5 m), rounded to 5 cm and
+/// held within [0.2, 0.5] m. A cell then holds a few readings of every scan that sees its wall
+/// broadside; a closer lattice follows corners no better than the readings' spread (the Intel
+/// lab: 0.04 m at 0.15 m against 0.041 m at 0.25 m, README) at 2.5 times the unknowns.
+/// \return 0.25 when no two consecutive readings are under 0.5 m apart.
+[[nodiscard]] double spacing_from_data(const std::vector<MapScan>& scans);
+
 /// \brief What a fit did.
 struct UncertainMapSummary {
   bool converged = false;      ///< Ceres reached a minimum within max_iterations
   bool covariance_ok = false;  ///< the marginal blocks were computed (H positive definite)
   std::string message;         ///< Ceres's report, or why the covariance failed
   int iterations = 0;
+  double spacing = 0.0;    ///< h the fit used, metres (spacing_from_data() when not given)
   int control_points = 0;  ///< unknown control points (2 coefficients each)
   int boundary_points = 0;
   int eikonal_samples = 0;
-  int cut_locus_samples = 0;  ///< samples removed near cut loci
-  int scan_poses = 0;         ///< scans whose pose errors were estimated (3 unknowns each)
+  int cut_locus_samples = 0;   ///< samples removed near cut loci
+  int free_space_samples = 0;  ///< Eikonal samples the beams cross, with the free-space residual
+  int cleared_readings = 0;  ///< readings dropped: the beams cross their endpoint more than end in
+  int scan_poses = 0;        ///< scans whose pose errors were estimated (3 unknowns each)
   double initial_cost = 0.0, final_cost = 0.0;
   double fit_seconds = 0.0, covariance_seconds = 0.0;
 };
@@ -139,6 +170,50 @@ struct UncertainMapSample {
 /// \brief A fitted uncertain VDT map.
 class UncertainVdtMap final : public MapUncertainty<2> {
  public:
+  /// \brief The covariance of the control points, cov(c) = Z + Y Y^T, as flat arrays (map files:
+  /// io/uncertain_map_file.hpp), with whoever keeps them alive (the fit's vectors or a file
+  /// mapping). n control points, m cells in the band (in the lattice's order, x fastest).
+  static constexpr int kFormTerms = 136;  ///< pairs k <= l of a cell's 16 weights
+
+  struct CovarianceArrays {
+    /// n x 49 blocks 2 x 2 (row-major): Z between a control point and the one at (da, db) in
+    /// [-3, 3]^2 (da fastest); NaN where that neighbour is not an unknown.
+    const float* z = nullptr;
+    /// Y, 2n rows (c_x, c_y of each control point) by y_columns (3 per scan), compressed rows.
+    const std::uint32_t* y_row_start = nullptr;  ///< 2n + 1 offsets into y_column, y_value
+    const std::uint32_t* y_column = nullptr;
+    const float* y_value = nullptr;
+    std::uint32_t y_columns = 0;
+    /// m x 3 x 136: per cell of the band, cov(DT_v)'s xx, xy and yy entries as quadratic forms in
+    /// the cell's 16 weights w (coefficients of w_k w_l for k <= l, k-major; see evaluate()).
+    const float* cell_forms = nullptr;
+    std::shared_ptr<const void> owner;
+    [[nodiscard]] bool empty() const noexcept { return z == nullptr; }
+  };
+
+  /// \brief Everything a map is (map files): the lattice, the band, the control points, the
+  /// per-cell approximation variance, the observed points and the covariance's arrays.
+  struct Parts {
+    double spacing = 0.0;              ///< h, metres
+    double approximation_sigma = 0.0;  ///< see approximation_sigma()
+    Eigen::Vector2d origin = Eigen::Vector2d::Zero();
+    Eigen::Vector2i cells = Eigen::Vector2i::Zero();
+    std::vector<char> active;               ///< per cell, x fastest
+    std::vector<float> approximation_var;   ///< per cell, metres^2 (empty: none)
+    std::vector<std::int32_t> vars;         ///< per padded control point: its unknown, or -1
+    std::vector<double> coefficients;       ///< 2 per unknown, metres
+    std::vector<Eigen::Vector2d> observed;  ///< the observed points
+    CovarianceArrays covariance;            ///< empty: no covariance
+  };
+
+  /// \brief A map from its parts, checked (sizes, indices, finite values).
+  /// \throws ConfigError naming what is inconsistent.
+  [[nodiscard]] static UncertainVdtMap assemble(Parts parts);
+  /// \brief The map's parts (the covariance's arrays shared, not copied).
+  [[nodiscard]] Parts parts() const;
+  /// \return the number of cells in the band.
+  [[nodiscard]] std::size_t band_cells() const noexcept { return band_cells_; }
+
   /// \brief Fits the map to the scans (see the file comment).
   /// \throws ConfigError for invalid options, or when no scan has a reading.
   [[nodiscard]] static UncertainVdtMap fit(const std::vector<MapScan>& scans,
@@ -208,12 +283,12 @@ class UncertainVdtMap final : public MapUncertainty<2> {
   std::vector<int> vars_;           // per padded control point
   std::vector<int> v_col_, v_row_;  // padded lattice position per variable
   std::vector<double> coef_;        // 2 per variable
-  /// Per variable and neighbour offset (da, db) in [-3, 3]^2: the 2 x 2 block
-  /// Z(c_var, c_neighbour), row-major; NaN where the neighbour is not an unknown. Empty: no
-  /// covariance.
-  std::vector<double> cov_;
-  /// Y (2 rows per variable, 3 columns per scan whose pose was estimated): cov(c) = Z + Y Y^T.
-  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> y_;
+  /// The covariance's arrays (empty: no covariance); cov(c) = Z + Y Y^T.
+  CovarianceArrays cov_;
+  std::vector<std::int32_t> cell_slot_;  // per cell: its index among the band's cells, or -1
+  std::size_t band_cells_ = 0;
+  /// Numbers the band's cells (cell_slot_, band_cells_) and the unknowns' lattice positions.
+  void index_cells();
   std::vector<Pose2> scan_poses_;
   std::vector<Eigen::Vector2d> observed_;
   UncertainMapSummary summary_;

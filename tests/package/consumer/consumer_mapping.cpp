@@ -1,5 +1,6 @@
 // A user's program against the installed vdtnav::mapping: an uncertain map (thesis ch. 5) fitted
-// to one scan of a box room.
+// to one scan of a box room, saved to an uncertain map file and mapped back.
+#include <vdtnav/mapping/uncertain_map_file.hpp>
 #include <vdtnav/mapping/uncertain_vdt_map.hpp>
 
 #include <cmath>
@@ -17,7 +18,14 @@ int main() {
   const auto wall = um.evaluate(Eigen::Vector2d(2.0, 2.725));
   const bool ok = wall.inside && std::abs(wall.value.y()) < 0.01 && wall.covariance(1, 1) > 0.0 &&
                   std::isfinite(wall.covariance(1, 1));
-  std::printf("uncertain map: DT_y %g, sigma %g at a wall %s\n", wall.value.y(),
-              std::sqrt(wall.covariance(1, 1)), ok ? "ok" : "WRONG");
-  return ok ? 0 : 1;
+  mapping::save_uncertain_map("consumer.umap", um,
+                              Grid<std::int8_t, 2>(Eigen::Vector2i(2, 2), GridFrame<2>(0.05, {})));
+  const mapping::UncertainMapFile file = mapping::load_uncertain_map("consumer.umap");
+  const auto again = file.map.evaluate(Eigen::Vector2d(2.0, 2.725));
+  const bool same =
+      again.inside && again.value == wall.value && again.covariance == wall.covariance;
+  std::printf("uncertain map: DT_y %g, sigma %g at a wall %s; from consumer.umap %s\n",
+              wall.value.y(), std::sqrt(wall.covariance(1, 1)), ok ? "ok" : "WRONG",
+              same ? "the same" : "DIFFERENT");
+  return ok && same ? 0 : 1;
 }
