@@ -96,8 +96,8 @@ void UncertainVdtMap::Problem::covariance(std::unique_ptr<ceres::Problem> proble
   ca.y_column = owned->y_column.data();
   ca.y_value = owned->y_value.data();
   ca.y_columns = static_cast<std::uint32_t>(y.cols());
-  // Per cell of the band, cov(DT_v) as quadratic forms in the 16 weights.
-  map.index_cells();
+  // Per cell of the band (numbered by fit()'s index_cells()), cov(DT_v) as quadratic forms in the
+  // 16 weights.
   owned->cell_forms.assign(map.band_cells_ * 3 * kFormTerms, 0.0f);
   std::vector<int> local(ca.y_columns, -1);
   std::vector<std::uint32_t> touched;

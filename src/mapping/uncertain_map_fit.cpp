@@ -246,9 +246,9 @@ UncertainVdtMap UncertainVdtMap::fit(const std::vector<MapScan>& scans,
   map.approximation_sigma_ = floor_sigma;
 
   // Free space: where the beams pass (before the lattice, so that what they clear is not in it).
-  const double beam_res = std::min(0.05, 0.25 * h);
+  const double beam_res = detail::raster_resolution(h);
   const BeamCounts beams = o.free_space ? count_beams(scans, beam_res) : BeamCounts{};
-  const mapping::OccupancyMapperOptions log_odds;
+  const OccupancyMapperOptions log_odds;
   // A reading is cleared when the beams cross its cell more than they end around it (its cell and
   // the 8 next to it), with the occupancy grid's log-odds. Around it, because the readings of a
   // wall scatter over the cells next to its surface with their range and pose noise, and the
@@ -319,16 +319,24 @@ UncertainVdtMap UncertainVdtMap::fit(const std::vector<MapScan>& scans,
     map.observed_ = std::move(kept_points);
   }
 
-  // Eikonal samples: the vector form away from the boundary, the Hessian form near it.
+  // Eikonal samples: the vector form away from the boundary, the Hessian form near it; those the
+  // beams cross, away from the observed points, also carry the free-space residual.
   const int n = o.samples_per_axis;
   const double eik_w = 1.0 / o.eikonal_sigma;
   struct Sample {
     Eigen::Vector2i cell;
     SplinePatchBasis basis;
     bool at_boundary;
-    Eigen::Vector2d basis_t;  // fractional offsets in the cell
+  };
+  struct FreeSample {
+    Eigen::Vector2i cell;
+    SplinePatchBasis basis;
+    double d_min;
   };
   std::vector<Sample> samples;
+  std::vector<FreeSample> free_samples;
+  double sr_max = 0.0;
+  for (const MapScan& sc : scans) sr_max = std::max(sr_max, sc.points.sigma_range);
   const auto nearest = [&](const Eigen::Vector2d& q) {
     return map.raster_->nearest_occupied_point(q);
   };
@@ -345,34 +353,18 @@ UncertainVdtMap UncertainVdtMap::fit(const std::vector<MapScan>& scans,
             ++map.summary_.cut_locus_samples;
             continue;
           }
-          samples.push_back({Eigen::Vector2i(i, j), spline_patch_basis(tx, ty, h), d < pb.near,
-                             Eigen::Vector2d(tx, ty)});
+          const Sample smp{Eigen::Vector2i(i, j), spline_patch_basis(tx, ty, h), d < pb.near};
+          samples.push_back(smp);
+          if (beams.crossed.empty() || smp.at_boundary) continue;
+          const std::int64_t k = beams.index(p);
+          if (k < 0 || beams.crossed[static_cast<std::size_t>(k)] == 0) continue;
+          const double d_min = d - 2.0 * sr_max - beam_res;
+          if (d_min > 0.0) free_samples.push_back({smp.cell, smp.basis, d_min});
         }
       }
     }
   }
   map.summary_.eikonal_samples = static_cast<int>(samples.size());
-  // Free-space samples: the Eikonal samples the beams cross, away from the observed points.
-  struct FreeSample {
-    Eigen::Vector2i cell;
-    SplinePatchBasis basis;
-    double d_min;
-  };
-  std::vector<FreeSample> free_samples;
-  if (!beams.crossed.empty()) {
-    double sr_max = 0.0;
-    for (const MapScan& sc : scans) sr_max = std::max(sr_max, sc.points.sigma_range);
-    for (const Sample& smp : samples) {
-      if (smp.at_boundary) continue;
-      const Eigen::Vector2d p =
-          pb.corner(smp.cell) + Eigen::Vector2d(smp.basis_t.x(), smp.basis_t.y()) * h;
-      const std::int64_t k = beams.index(p);
-      if (k < 0 || beams.crossed[static_cast<std::size_t>(k)] == 0) continue;
-      const double d_min = pb.distance(p) - 2.0 * sr_max - beam_res;
-      if (d_min <= 0.0) continue;
-      free_samples.push_back({smp.cell, smp.basis, d_min});
-    }
-  }
   map.summary_.free_space_samples = static_cast<int>(free_samples.size());
 
   // The scans' pose errors dX_s: unknowns with the prior N(0, cov(X_s)) (whitened by

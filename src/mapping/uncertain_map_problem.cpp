@@ -39,7 +39,7 @@ void UncertainVdtMap::Problem::layout(const std::vector<Eigen::Vector2d>& points
                "uncertain map: the lattice over the observed points is too large (points far "
                "apart? spacing too small?)");
   // The exact VDT of the observed points on a grid of h/4 (at most 5 cm).
-  const double res = std::min(0.05, 0.25 * h);
+  const double res = detail::raster_resolution(h);
   const Eigen::Vector2i size =
       (map.cells_.cast<double>() * (h / res)).array().ceil().cast<int>().matrix() +
       Eigen::Vector2i::Ones();

@@ -2,6 +2,7 @@
 // Internal (not installed): UncertainVdtMap::Problem, the lattice, the raster VDT of the observed
 // points and the unknowns of an uncertain VDT map (thesis ch. 5), shared by fit and approximate.
 
+#include <algorithm>
 #include <chrono>
 #include <cstddef>
 #include <cstdint>
@@ -22,6 +23,9 @@ using Clock = std::chrono::steady_clock;
 inline double seconds_since(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
 }
+
+/// The raster of the observed points' exact VDT and of the beams' crossings: h / 4, at most 5 cm.
+inline double raster_resolution(double h) { return std::min(0.05, 0.25 * h); }
 
 /// The fitted map's covariance arrays (UncertainVdtMap::CovarianceArrays points into them).
 struct OwnedCovariance {

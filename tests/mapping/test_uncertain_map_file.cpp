@@ -4,6 +4,7 @@
 #include "vdtnav/mapping/uncertain_map_file.hpp"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cstdio>
 #include <filesystem>
