@@ -39,6 +39,13 @@ struct Row {
   /// The slowest update's processor time (std::clock): its own work, without the time other
   /// processes of a shared machine took from it (ms.max, wall time, includes that).
   double cpu_ms_max = 0.0;
+  /// Solver iterations of the tracked scans (solved from the prediction alone: no window search,
+  /// no coarse-to-fine alignment, whatever their status), median and p99 (issue 57).
+  double iterations_median = 0.0, iterations_p99 = 0.0;
+  double converged_pct = 0.0;          ///< scans reported converged
+  double correct_converged_pct = 0.0;  ///< of the scans within 0.1 m of the corrected pose
+  /// The relations on the poses a default pose file keeps (status converged only).
+  eval::RelationMetricResult rel_converged;
   std::vector<Pose2> poses;
   std::vector<Eigen::Matrix3d> cov;
 };

@@ -35,6 +35,9 @@ Row localize_method(const std::string& method, const VdtMap2& vdt, const mapping
   std::vector<double> nees;
   std::vector<Eigen::Matrix3d> est_cov;  // NaN where the scan has no covariance
   std::vector<double> scan_ms;
+  std::vector<double> tracked_iterations;
+  eval::Trajectory2 converged_est;
+  std::size_t converged = 0, correct = 0, correct_converged = 0;
   const auto w0 = Clock::now();
   for (std::size_t k = 0; k < split; ++k) {
     LaserScan scan = logs.raw.lasers[k].scan;
@@ -52,6 +55,14 @@ Row localize_method(const std::string& method, const VdtMap2& vdt, const mapping
     est_cov.push_back(res.has_covariance ? res.covariance
                                          : Eigen::Matrix3d::Constant(std::nan("")));
     if ((res.pose.head<2>() - reference[k].pose.head<2>()).norm() > 0.5) ++r.lost;
+    const bool is_converged = res.status == LocalizationStatus::kConverged;
+    const bool is_correct = (res.pose.head<2>() - reference[k].pose.head<2>()).norm() <= 0.1;
+    converged += is_converged;
+    correct += is_correct;
+    correct_converged += is_correct && is_converged;
+    if (is_converged) converged_est.push_back({times[k], res.pose});
+    if (res.work.window_searches == 0 && res.work.coarse_to_fine == 0)
+      tracked_iterations.push_back(res.iterations);
     if (res.status == LocalizationStatus::kLost) ++r.flagged_lost;
     if (res.has_covariance) {
       r.has_cov = true;
@@ -60,7 +71,17 @@ Row localize_method(const std::string& method, const VdtMap2& vdt, const mapping
   }
   r.wall_s = std::chrono::duration<double>(Clock::now() - w0).count();
   r.ms = eval::error_statistics(scan_ms);
+  if (!tracked_iterations.empty()) {
+    const eval::ErrorStatistics it = eval::error_statistics(tracked_iterations);
+    r.iterations_median = it.median;
+    r.iterations_p99 = it.p99;
+  }
+  r.converged_pct = 100.0 * static_cast<double>(converged) / static_cast<double>(split);
+  r.correct_converged_pct =
+      correct > 0 ? 100.0 * static_cast<double>(correct_converged) / static_cast<double>(correct)
+                  : 0.0;
   r.rel = eval::relation_metric(est, relations, ro);
+  r.rel_converged = eval::relation_metric(converged_est, relations, ro);
   r.ate = eval::absolute_trajectory_error(est, reference);
   r.rpe = eval::relative_pose_error(est, reference);
   if (r.has_cov) {
@@ -72,10 +93,13 @@ Row localize_method(const std::string& method, const VdtMap2& vdt, const mapping
   save_tum_trajectory(out + "/traj_" + method + ".tum", tum);
   std::printf(
       "[intel] %-8s relations %zu: %.4f m / %.3f deg, ATE %.4f m, %zu scans off by > 0.5 m, "
-      "%zu flagged lost, %.3f ms per scan (median %.3f, p99 %.1f, max %.1f), %.3f s wall\n",
+      "%zu flagged lost, %.3f ms per scan (median %.3f, p99 %.1f, max %.1f), %.3f s wall; "
+      "%.1f %% converged (%.1f %% of the scans within 0.1 m), tracked-scan iterations median %.0f "
+      "p99 %.0f\n",
       method.c_str(), r.rel.used, r.rel.translation.mean, r.rel.rotation.mean * kRadToDeg,
       r.ate.unaligned_translation.rmse, r.lost, r.flagged_lost, r.ms.mean, r.ms.median, r.ms.p99,
-      r.ms.max, r.wall_s);
+      r.ms.max, r.wall_s, r.converged_pct, r.correct_converged_pct, r.iterations_median,
+      r.iterations_p99);
   return r;
 }
 

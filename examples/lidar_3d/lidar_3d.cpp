@@ -74,6 +74,10 @@ int main(int argc, char** argv) {
   app.add_option("--poses", real.poses,
                  "--scans DIR: the scans' reference poses, KITTI (3x4 row-major, a line per scan "
                  "in name order) or TUM (stamps matched to the scans' numeric names)");
+  app.add_option("--odom", real.odom,
+                 "--scans DIR: the odometry's pose of each scan (KITTI or TUM, as --poses): the "
+                 "even scans are predicted by its increments (default: drawn from --poses with "
+                 "the simulated drive's noise)");
   app.add_option("--resolution", real.resolution, "--scans DIR: the map's voxel edge, metres")
       ->capture_default_str();
   app.add_option("--sigma-range", real.sigma_range,

@@ -87,6 +87,9 @@ void write_tables(const std::string& out, const std::string& world_name,
 /// The study on a real sequence (real_scans.cpp): `--scans DIR --poses FILE`.
 struct RealScans {
   std::string dir, poses, out;
+  /// --odom FILE: the odometry's pose of each scan (KITTI or TUM, as the poses); the increments
+  /// between the localized scans are the prediction (empty: drawn from the reference with noise).
+  std::string odom;
   /// Readings per scan after voxel downsampling (about; the edge is fitted on the first scan);
   /// 0: one reading per map voxel, as `vdtnav localize3d` does by default.
   std::size_t points = 0;

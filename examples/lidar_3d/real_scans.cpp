@@ -45,6 +45,8 @@ void run_real_scans(const RealScans& o) {
   const std::vector<std::string> clouds = point_cloud_files_in(o.dir);
   const ScanPoseFile pose_file = load_scan_poses(o.poses);
   const std::vector<Pose3> reference = poses_of_scans(pose_file, clouds);
+  const std::vector<Pose3> odometry =
+      o.odom.empty() ? std::vector<Pose3>{} : poses_of_scans(load_scan_poses(o.odom), clouds);
   VDTNAV_CHECK(clouds.size() >= 2, o.dir +
                                        ": a real sequence needs two scans or more (the odd "
                                        "ones make the map, the even ones are localized)");
@@ -129,9 +131,14 @@ void run_real_scans(const RealScans& o) {
     readings_sum += obs.size();
     const std::size_t prev = i == 0 ? k : loc_scans[i - 1];
     // The first scan's "increment" is none, with the IMU's roll and pitch.
-    const OdometryStep3 odo =
-        o6.noisy_odometry(reference[prev], reference[k],
-                          i == 0 ? 0.1 : std::max(time_of(k) - time_of(prev), 1e-3), rng);
+    const double dt = i == 0 ? 0.1 : std::max(time_of(k) - time_of(prev), 1e-3);
+    OdometryStep3 odo;
+    if (odometry.empty()) {
+      odo = o6.noisy_odometry(reference[prev], reference[k], dt, rng);
+    } else {  // --odom: the file's increment, the settings' noise; no IMU attitude
+      odo.dt = dt;
+      odo.delta = odometry[prev].inverse() * odometry[k];
+    }
     truth.push_back(reference[k]);
     for (int m = 0; m < 2; ++m) {
       const auto s0 = Clock::now();
@@ -140,7 +147,7 @@ void run_real_scans(const RealScans& o) {
         r = locs[m]->update(odo, obs);
       } else {
         if (i > 0) guess[m] = guess[m] * odo.delta;
-        if (m == 1) {  // roll and pitch from the IMU
+        if (m == 1 && odo.has_attitude()) {  // roll and pitch from the IMU
           const Eigen::Vector3d rpy = rpy_of(guess[m].linear());
           const Eigen::Vector3d t = guess[m].translation();
           guess[m] = pose3_from_xyz_rpy(t.x(), t.y(), t.z(), odo.roll, odo.pitch, rpy.z());
@@ -173,10 +180,14 @@ void run_real_scans(const RealScans& o) {
      << (sparse ? ", a sparse map: its dense grid would pass 2^27 voxels" : "") << "); the "
      << loc_scans.size() << " even scans are localized on it in order with `vdtnav localize3d`'s "
      << "settings, about " << readings_sum / loc_scans.size() << " readings per scan after "
-     << voxel << " m voxel downsampling, each predicted by odometry drawn from the reference with "
-     << "5 % per metre + 0.02 m/s, 5 % per radian + 0.01 rad/s of noise (the 4-DOF run: an IMU's "
-     << "roll and pitch, sigma " << o6.sigma_imu_attitude
-     << " rad). Errors and NEES are against the reference, which is an estimate, not ground "
+     << voxel << " m voxel downsampling, each predicted by "
+     << (o.odom.empty()
+             ? "odometry drawn from the reference with 5 % per metre + 0.02 m/s, 5 % per radian + "
+               "0.01 rad/s of noise (the 4-DOF run: an IMU's roll and pitch, sigma " +
+                   std::to_string(o6.sigma_imu_attitude) + " rad)"
+             : "the increments of the odometry " + o.odom + " (the settings' odometry noise; the "
+               "4-DOF run holds the prediction's roll and pitch)")
+     << ". Errors and NEES are against the reference, which is an estimate, not ground "
         "truth. ANEES interval: 95 % (chi-square, N x dof).\n\n";
   write_rows(csv, md, truth, runs, 2);
   md << "\nTimes: localizer update per scan (observations given), this machine.\n";

@@ -137,10 +137,12 @@ void visit(V& v, VdtOptimizerOptions& o) {
            "implicit_function = (3.4) with the full Hessian, gauss_newton = sandwich");
   v.integer("max_iterations", o.max_iterations, "count", "solver iterations per solve");
   v.number("function_tolerance", o.function_tolerance, "fraction",
-           "a solve stops when a step changes the cost by less than this fraction of it");
+           "solver ceres: a solve stops when a step changes the cost by less than this fraction");
   v.number("step_sigma", o.step_sigma, "sigma",
-           "solver dense: a solve also stops when its step is at most this many of the pose's "
-           "standard deviations; 0: off");
+           "solver dense: converged (and stopped) when the Newton step is at most this many of "
+           "the pose's standard deviations");
+  v.flag("newton", o.newton,
+         "solver dense: steps on Newton's curvature (the loss's and the field's); false: IRLS");
   v.integer("gate_rounds", o.gate_rounds, "count",
             "re-gate at the solution and solve again while the inliers change");
   v.integer("min_inliers", o.min_inliers, "count", "fewer usable readings: too few observations");

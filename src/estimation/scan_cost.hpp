@@ -82,10 +82,26 @@ struct SolveSetup {
   TrustRegion trust_region = TrustRegion::kLevenbergMarquardt;
   int max_iterations = 25;
   bool four_dof = false;
-  double function_tolerance = 1e-6;
+  double function_tolerance = 1e-6;   // Ceres's; the dense solver stops by (C) of scan_lm.hpp
   double parameter_tolerance = 1e-6;  // relative: ~10 micrometres at 10 m from the origin
-  double step_sigma = 0.0;            // the dense solver's step test (scan_lm.hpp); 0: off
+  double step_sigma = 0.01;           // the convergence test (C) (scan_lm.hpp), in sigmas
+  bool newton = true;                 // the dense solver's curvature (N) (scan_lm.hpp)
 };
+
+/// The a priori variance of one disparity component, metres^2: the map's floor plus the
+/// readings' own noise spread over the Dim components (their point covariances where given).
+/// The sigma of the convergence test (C) and the units a prior joins the VCD in.
+template <int Dim>
+double disparity_variance(const VdtSensorModelT<Dim>& model, const ObservationSet<Dim>& scan) {
+  double noise = 0.0;
+  if (!scan.point_covariances.empty()) {
+    for (const auto& c : scan.point_covariances) noise += c.trace() / Dim;
+    noise /= static_cast<double>(scan.point_covariances.size());
+  } else {
+    noise = scan.sigma_range * scan.sigma_range / Dim;
+  }
+  return model.map_sigma() * model.map_sigma() + noise;
+}
 
 /// One solve of the readings in `beams` from x (updated in place), weighted by sqrt_w (empty: 1),
 /// with the prior term when `prior` is given.

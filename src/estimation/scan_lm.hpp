@@ -7,28 +7,52 @@
 /// program evaluation, Jacobian copies), which dominates for a few unknowns.
 ///
 /// Cost (the one Ceres minimises with the ScanCost block, halved as Ceres reports it):
-///   F(X) = 1/2 sum_i w_i^2 rho(|d_i|^2) [+ 1/2 e^T I e]     (rho(s) = s without a robust loss)
-/// Gradient and Gauss-Newton matrix, in the pose perturbation of PoseTraits<Dim>:
-///   g = sum_i w_i^2 rho'_i J_i^T d_i [+ I e],   H = sum_i w_i^2 rho'_i J_i^T J_i [+ I]
-/// (the IRLS weighting; in brackets an optional prior, e = X (-) mean, a PosePrior; the
-/// Jacobian of e is taken as the identity: exact in 2D, first order at the mean in 3D).
+///   F(X) = 1/2 sum_i w_i^2 rho(s_i) [+ 1/2 e^T I e],   s_i = |d_i|^2   (rho(s) = s without a loss)
+/// Gradient, in the pose perturbation of PoseTraits<Dim>:
+///   g = sum_i w_i^2 rho'_i J_i^T d_i [+ I e]
+/// Curvature: Newton's (issue 57). Two terms make it differ from the IRLS matrix
+///   H_G = sum_i w_i^2 rho'_i J_i^T J_i [+ I]                                                (G)
+/// (what Ceres uses for a loss with rho'' <= 0), and each made every step fall short by about
+/// half on the Intel log (gain ratio ~1.5-2 step after step, the cost converging linearly over
+/// tens of iterations):
+/// - the robust loss's second-order term (Triggs et al., "Bundle adjustment - a modern
+///   synthesis", 2000, Sec. 4.3: the Hessian of rho(|d|^2)/2 in d is rho' I + 2 rho'' d d^T),
+///     T = sum_i 2 w_i^2 rho''_i (J_i^T d_i)(J_i^T d_i)^T                                    (T)
+///   (a Cauchy reading at |d| = scale / 1.7 has half the IRLS curvature), at every evaluation;
+/// - the curvature of the field and of the rotation (BeamCurvatureT::hessian, what the
+///   covariance (3.6) uses; the interpolated VDT bends where walls are thick or meet),
+///     C = sum_i w_i^2 rho'_i (hessian_i - J_i^T J_i),                                       (F)
+///   one lookup of the field's second derivatives per reading, outside the batch kernels, so it
+///   is measured only where (G) + (T) proved a poor model: after an accepted step whose gain
+///   ratio was off 1 by more than a quarter (on a floor plan's exact field never), and kept
+///   while the model predicts well.
+/// H_N = H_G + T + C is Newton's matrix of F, indefinite away from a minimum. The step's matrix
+/// keeps its eigenvalues relative to H_G from below at 1/4 (newton_curvature()),
+///     H = L V max(Lambda, 1/4) V^T L^T,   L L^T = H_G,   L^-1 H_N L^-T = V Lambda V^T       (K)
+/// positive definite, Newton's own wherever H_N is that curved, at most 4x the IRLS step in any
+/// direction: a lower floor (0.1) let steps leave their basin on the Intel log (4 scans lost).
 /// Step: (H + lambda D) delta = -g, D = diag(H) clamped to [1e-6, 1e32] (Ceres's LM), factored by
 /// Cholesky and accepted when the cost falls by at least 1e-3 of the model's predicted decrease;
-/// lambda = 1 / radius with Ceres's (Nielsen's) radius update. Stops as
-/// Ceres does: |F - F_new| <= function_tolerance F, or |delta| <= parameter_tolerance (|x| +
-/// parameter_tolerance), or the iteration limit; and, with step_sigma > 0, when the step is far
-/// below the pose's own uncertainty (the test of issue 34, in the covariance's scale):
-///   delta^T H delta <= step_sigma^2 s^2,   s^2 = 2 F / max(1, m - DoF),   m = Dim x readings,
-/// i.e. the step's Mahalanobis length under the Gauss-Newton covariance s^2 H^-1 of (3.4) is at
-/// most step_sigma standard deviations; like the parameter tolerance it keeps x. With it comes a
-/// line search along the Gauss-Newton direction (below): the steps that each fell short by the
-/// same factor, the cost converging linearly over tens of iterations, reach the minimum in a few.
+/// lambda = 1 / radius with Ceres's (Nielsen's) radius update.
+///
+/// Convergence (issue 57) is a test at the pose, not a property of the stop: the Newton step
+/// delta_N = -H^-1 g, measured in the pose's standard deviations under the covariance
+/// sigma^2 H^-1 of (3.4) (sigma: the a priori standard deviation of one disparity component,
+/// the map's floor with the readings' noise),
+///   |delta_N|_sigma^2 = g^T H^-1 g / sigma^2 <= step_sigma^2                                 (C)
+/// i.e. the gradient small in the information metric, the remaining step far below one sigma
+/// (0.01 by default). A solve stops as soon as (C) holds (converged), or at the iteration limit,
+/// or when no step decreases the cost, or at Ceres's parameter tolerance (a step of ~10 um);
+/// whatever stopped it, `converged` says whether (C) holds where it stopped (or Newton's step
+/// itself is below the parameter tolerance: the minimum as far as the arithmetic resolves it).
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <vector>
 
 #include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
 
 #include "vdtnav/core/traits.hpp"
 #include "vdtnav/estimation/vdt_optimizer.hpp"
@@ -72,29 +96,60 @@ inline RobustValue robust_value(RobustLoss loss, double scale, double s) {
   return {s, rho1};
 }
 
-/// The line search's longest step, in Gauss-Newton steps (solve_scan_lm).
-inline constexpr double kMaxLineSearchAlpha = 16.0;
-
 /// Limits of one solve.
 struct ScanLmSettings {
   int max_iterations = 25;
-  double function_tolerance = 1e-6;
   double parameter_tolerance = 1e-6;
-  /// Stop when the step is at most this many of the pose's standard deviations (see above);
-  /// 0: off (Ceres's tests alone).
-  double step_sigma = 0.0;
+  /// The convergence test (C): the Newton step at most this many of the pose's standard
+  /// deviations.
+  double step_sigma = 0.01;
+  /// sigma of (C), metres: the a priori standard deviation of one disparity component (> 0).
+  double sigma = 0.01;
   /// Components of the perturbation held at zero (the 4-DOF mode's dtheta_x, dtheta_y).
   unsigned held_mask = 0;
+  /// The step's matrix (K) from Newton's curvature; false: the IRLS matrix (G) alone.
+  bool newton = true;
 };
+
+/// The curvature of the step, (K): Newton's H_N, its eigenvalues relative to the Gauss-Newton
+/// matrix H_G (with (T)) clamped from below at kNewtonFloor. With L L^T = H_G and
+/// L^-1 H_N L^-T = V diag(lambda) V^T, the step's matrix is L V diag(max(lambda, floor)) V^T L^T:
+/// positive definite, at most 1 / floor times as long as the Gauss-Newton step in any direction,
+/// and Newton's own wherever it is that curved. H_G itself when it is not positive definite.
+inline constexpr double kNewtonFloor = 0.25;
+template <typename Normal>
+Normal newton_curvature(const Normal& h_gauss_newton, const Normal& h_newton) {
+  const Eigen::LLT<Normal> llt(h_gauss_newton);
+  if (llt.info() != Eigen::Success || !h_newton.allFinite()) return h_gauss_newton;
+  const Normal l = llt.matrixL();
+  Normal m = llt.matrixL().solve(h_newton);
+  m = llt.matrixL().solve(m.transpose().eval());  // L^-1 H_N L^-T (H_N symmetric)
+  const Eigen::SelfAdjointEigenSolver<Normal> eig(0.5 * (m + m.transpose()));
+  if (eig.info() != Eigen::Success) return h_gauss_newton;
+  const auto lambda = eig.eigenvalues().cwiseMax(kNewtonFloor).eval();
+  const Normal lv = l * eig.eigenvectors();
+  return lv * lambda.asDiagonal() * lv.transpose();
+}
 
 /// What a solve did (the fields of ceres::Solver::Summary the optimizer reads; the optimizer
 /// reports a Ceres solve in the same form).
 struct ScanLmSummary {
   int iterations = 0;       ///< evaluations of a step, the start included (Ceres's count)
   double final_cost = 0.0;  ///< F at the returned pose (half the robust VCD)
-  bool converged = false;   ///< a tolerance was met (not the iteration limit)
+  bool converged = false;   ///< the test (C) holds at the returned pose
   bool failed = false;      ///< the cost or the normal equations were not finite at the start
+  /// |delta_N|_sigma of (C) at the returned pose (infinite when H is not positive definite).
+  double step_sigmas = 0.0;
 };
+
+/// rho''(s) of a robust loss (see (T) above): 0 (none; Huber's core), -rho' / (2 s) (Huber
+/// outside it), -rho'^2 / b (Cauchy).
+inline double robust_curvature(RobustLoss loss, double scale, double s, double rho1) {
+  if (loss == RobustLoss::kNone || s <= 0.0) return 0.0;
+  const double b = scale * scale;
+  if (loss == RobustLoss::kHuber) return s <= b ? 0.0 : -0.5 * rho1 / s;
+  return -rho1 * rho1 / b;
+}
 
 /// Minimises F over the readings `beams` of `scan` from `pose` (updated in place).
 /// \param sqrt_w per-reading weights w_i (empty: all 1), index k of `beams`.
@@ -110,15 +165,17 @@ ScanLmSummary solve_scan_lm(const VdtSensorModelT<Dim>& model, const Observation
   using Normal = typename Traits::Covariance;
   constexpr int kDoF = Traits::kDoF;
   const auto weight = [&](std::size_t k) { return sqrt_w.empty() ? 1.0 : sqrt_w[k] * sqrt_w[k]; };
-  // Cost and normal equations at X in one batch lookup of the readings (the SIMD kernels: the
-  // Jacobian costs little more than the value there, so a trial point gets both, kept when the
-  // step is accepted).
+  // Cost, gradient, (G) and (T) at X in one batch lookup of the readings (the SIMD
+  // kernels: the Jacobian costs little more than the value there, so a trial point gets both,
+  // kept when the step is accepted).
   thread_local std::vector<BeamDisparityT<Dim>> disparities;  // scratch: no allocation per solve
-  const auto evaluate = [&](const Pose& x, Normal* h, Tangent* g) {
-    model.disparities(Traits::rotation(x), Traits::translation(x), scan, &beams, &disparities,
-                      DisparityParts::kPose);
+  const auto evaluate = [&](const Pose& x, Normal* h, Normal* t, Tangent* g) {
+    const auto rotation = Traits::rotation(x);
+    const auto translation = Traits::translation(x);
+    model.disparities(rotation, translation, scan, &beams, &disparities, DisparityParts::kPose);
     double cost = 0.0;
     h->setZero();
+    t->setZero();
     g->setZero();
     // Unweighted Cauchy: sum_i b log(1 + s_i/b) = b log prod_i (1 + s_i/b), one logarithm per
     // run of factors up to 1e150 instead of one per reading (the log was an eighth of a real-log
@@ -129,7 +186,7 @@ ScanLmSummary solve_scan_lm(const VdtSensorModelT<Dim>& model, const Observation
     for (std::size_t k = 0; k < beams.size(); ++k) {
       const BeamDisparityT<Dim>& b = disparities[k];
       const double s2 = b.d.squaredNorm(), w = weight(k);
-      double wr;
+      double rho1;
       if (cauchy_product) {
         const double f = 1.0 + s2 / b2;
         product *= f;
@@ -137,21 +194,31 @@ ScanLmSummary solve_scan_lm(const VdtSensorModelT<Dim>& model, const Observation
           log_sum += std::log(product);
           product = 1.0;
         }
-        wr = 1.0 / f;  // rho'
+        rho1 = 1.0 / f;
       } else {
         const RobustValue rv = robust_value(loss, loss_scale, s2);
         cost += w * rv.rho;
-        wr = w * rv.rho1;
+        rho1 = rv.rho1;
       }
-      // The lower triangle of the symmetric J^T J only (mirrored once after the pass).
+      const double wr = w * rho1;
+      // J^T d, and the lower triangle of the symmetric J^T J (mirrored once after the pass).
+      const Tangent jd = b.d_pose.transpose() * b.d;
       const auto wj = (wr * b.d_pose).eval();
       for (int c = 0; c < kDoF; ++c) {
         for (int r = c; r < kDoF; ++r) (*h)(r, c) += wj.col(r).dot(b.d_pose.col(c));
       }
-      g->noalias() += wj.transpose() * b.d;
+      g->noalias() += wr * jd;
+      // (T)'s second-order term 2 rho'' (J^T d)(J^T d)^T (robust_curvature).
+      const double c2 = 2.0 * w * robust_curvature(loss, loss_scale, s2, rho1);
+      if (c2 != 0.0) {
+        for (int c = 0; c < kDoF; ++c) {
+          for (int r = c; r < kDoF; ++r) (*t)(r, c) += c2 * jd[r] * jd[c];
+        }
+      }
     }
     if (cauchy_product) cost += b2 * (log_sum + std::log(product));
     *h = h->template selfadjointView<Eigen::Lower>();
+    *t = t->template selfadjointView<Eigen::Lower>();
     if (prior != nullptr) {
       const Tangent e = Traits::minus(x, prior->mean);
       cost += e.dot(prior->information * e);  // halved with the rest below
@@ -163,9 +230,34 @@ ScanLmSummary solve_scan_lm(const VdtSensorModelT<Dim>& model, const Observation
       h->row(c).setZero();
       h->col(c).setZero();
       (*h)(c, c) = 1.0;
+      t->row(c).setZero();
+      t->col(c).setZero();
       (*g)[c] = 0.0;
     }
     return 0.5 * cost;
+  };
+  // (F) at X: the curvature of the field and of the rotation (costs about what an iteration does).
+  const auto correction_at = [&](const Pose& x) {
+    const auto rotation = Traits::rotation(x);
+    const auto translation = Traits::translation(x);
+    Normal c = Normal::Zero();
+    for (std::size_t k = 0; k < beams.size(); ++k) {
+      BeamCurvatureT<Dim> cv;
+      const BeamDisparityT<Dim> b = model.disparity(rotation, translation, scan.points[beams[k]],
+                                                    scan.directions[beams[k]], &cv);
+      const double wr = weight(k) * robust_weight(loss, loss_scale, b.d.squaredNorm());
+      cv.hessian.noalias() -= b.d_pose.transpose() * b.d_pose;
+      for (int j = 0; j < kDoF; ++j) {
+        for (int r = j; r < kDoF; ++r) c(r, j) += wr * cv.hessian(r, j);
+      }
+    }
+    c = c.template selfadjointView<Eigen::Lower>();
+    for (int j = 0; j < kDoF; ++j) {
+      if (!(settings.held_mask & (1u << j))) continue;
+      c.row(j).setZero();
+      c.col(j).setZero();
+    }
+    return c;
   };
   // |x| of Ceres's parameter tolerance: 2D (x, y, phi); 3D the ambient (unit quaternion, t).
   const auto norm_of = [](const Pose& x) {
@@ -175,51 +267,46 @@ ScanLmSummary solve_scan_lm(const VdtSensorModelT<Dim>& model, const Observation
       return std::sqrt(1.0 + x.translation().squaredNorm());
     }
   };
+  // (C) at the current pose: the Newton step's length in sigmas (infinite if H is not positive
+  // definite there).
+  const double sigma2 = settings.sigma * settings.sigma;
+  const auto newton_sigmas = [&](const Normal& h, const Tangent& g) {
+    const Eigen::LLT<Normal> llt(h);
+    if (llt.info() != Eigen::Success) return std::numeric_limits<double>::infinity();
+    const double q = g.dot(llt.solve(g));
+    return std::isfinite(q) ? std::sqrt(std::max(0.0, q) / sigma2)
+                            : std::numeric_limits<double>::infinity();
+  };
 
   ScanLmSummary summary;
-  Normal h, h_trial;
+  // h, t, g: (G), (T) and the gradient at the pose; c: (F), measured only where the model
+  // proved poor (see above); hs: the step's matrix (K).
+  Normal h, h_trial, t, t_trial, c = Normal::Zero(), hs;
   Tangent g, g_trial;
-  double cost = evaluate(*pose, &h, &g);
+  const auto step_matrix = [&]() {
+    hs = settings.newton ? newton_curvature(h, (h + t + c).eval()) : h;
+  };
+  double cost = evaluate(*pose, &h, &t, &g);
   summary.iterations = 1;
   summary.final_cost = cost;
   if (!std::isfinite(cost) || !h.allFinite() || !g.allFinite()) {
     summary.failed = true;
+    summary.step_sigmas = std::numeric_limits<double>::infinity();
     return summary;
   }
-  // The residual components' degrees of freedom of s^2 (the step test): m - DoF, at least 1.
-  const double dof_free =
-      std::max(1.0, static_cast<double>(Dim) * static_cast<double>(beams.size()) - kDoF);
+  step_matrix();
   double mu = 1e4;  // Ceres's initial trust-region radius: lambda = 1 / mu
   double nu = 2.0;
-  // The step's length along the Gauss-Newton direction (the line search, with step_sigma > 0):
-  // the cost's curvature along a step delta is measured by the step itself, from the cost at
-  // alpha delta (a quadratic through F(0), its slope g^T delta and F(alpha)):
-  //   c = 2 (F(alpha) - F(0) - alpha g^T delta) / alpha^2,   alpha* = -g^T delta / c,
-  // and the next step is taken alpha* times as long (clamped to [1, 16]), though no longer than
-  // the last accepted step, where the curvature was measured (a longer one could leave the basin
-  // the plain steps stay in: two starts then end apart). On the VDT the
-  // Gauss-Newton matrix J^T J overstates the curvature of |d|^2 / 2 (the interpolated field's
-  // second derivatives, sum_c d_c grad^2 d_c, are negative where the nearest surface point
-  // moves with the reading): on the Intel log the cost fell 1.5-1.9 times what the model
-  // predicted, step after step, and the steps halved each time. A longer step that does not
-  // decrease the cost enough (Armijo: F(alpha) <= F(0) + 1e-4 alpha g^T delta) is dropped for the
-  // plain step, and alpha starts over from 1.
-  const bool line_search = settings.step_sigma > 0.0;
-  double alpha = 1.0;
-  double last_m = 1e308;     // the last step in sigmas (the step test); none yet
-  double last_length = 0.0;  // the last accepted step's length sqrt(delta^T H delta)
-  const auto next_alpha = [](double f0, double f1, double a, double slope) {
-    const double c = 2.0 * (f1 - f0 - a * slope) / (a * a);
-    return c > 0.0 ? std::clamp(-slope / c, 1.0, kMaxLineSearchAlpha) : kMaxLineSearchAlpha;
-  };
-  while (summary.iterations < settings.max_iterations + 1) {
-    Normal a = h;
-    for (int c = 0; c < kDoF; ++c) a(c, c) += std::clamp(h(c, c), 1e-6, 1e32) / mu;
+  double sigmas = newton_sigmas(hs, g);
+  bool at_resolution = false;  // stopped by the parameter tolerance at Newton's step
+  while (sigmas > settings.step_sigma && summary.iterations < settings.max_iterations + 1) {
+    Normal a = hs;
+    for (int k = 0; k < kDoF; ++k) a(k, k) += std::clamp(hs(k, k), 1e-6, 1e32) / mu;
     // Cholesky as Ceres's DENSE_NORMAL_CHOLESKY: a matrix it cannot factor is an invalid step.
     const Eigen::LLT<Normal> llt(a);
     Tangent delta = llt.solve(-g);
-    for (int c = 0; c < kDoF; ++c) {
-      if (settings.held_mask & (1u << c)) delta[c] = 0.0;
+    for (int k = 0; k < kDoF; ++k) {
+      if (settings.held_mask & (1u << k)) delta[k] = 0.0;
     }
     if (llt.info() != Eigen::Success || !delta.allFinite()) {  // more damping
       ++summary.iterations;
@@ -227,86 +314,45 @@ ScanLmSummary solve_scan_lm(const VdtSensorModelT<Dim>& model, const Observation
       nu *= 2.0;
       continue;
     }
-    // Ceres's order: parameter tolerance on the step (x is kept; checked before the candidate's
-    // evaluation, which would not change the outcome), function tolerance on the cost change.
-    if (delta.norm() <=
-        settings.parameter_tolerance * (norm_of(*pose) + settings.parameter_tolerance)) {
-      summary.converged = true;
+    // Ceres's parameter tolerance on the step (x is kept): a step of micrometres. Where that is
+    // Newton's own step (the damping negligible) the pose is at the minimum as far as the
+    // arithmetic resolves it, though (C) may ask for less on a cloud of thousands of readings.
+    const double tiny =
+        settings.parameter_tolerance * (norm_of(*pose) + settings.parameter_tolerance);
+    if (delta.norm() <= tiny) {
+      const Eigen::LLT<Normal> newton(hs);
+      at_resolution = newton.info() == Eigen::Success && newton.solve(g).norm() <= 2.0 * tiny;
       break;
-    }
-    const double quad = delta.dot(h * delta);  // delta^T H delta: the test, the length, the model
-    // The step test: the step alpha delta in sigmas, with the curvature H / alpha, and the distance
-    // still to go when the steps shrink linearly (rate r = this step / the last, the geometric sum
-    // m / (1 - r)): along a weakly constrained direction (a corridor) the steps creep, each a few
-    // percent shorter than the last, and their sum, not the step, is what stopping would lose.
-    if (settings.step_sigma > 0.0) {
-      const double m = std::sqrt(alpha * quad * dof_free / (2.0 * cost));
-      const double to_go = m < last_m ? m / (1.0 - m / last_m) : (last_m > 1e300 ? m : 1e300);
-      last_m = m;
-      if (to_go <= settings.step_sigma) {
-        summary.converged = true;
-        break;
-      }
-    }
-    const double slope = g.dot(delta);  // < 0: delta descends (H + lambda D is positive definite)
-    // No longer than the last accepted step (see above).
-    const double length = std::sqrt(quad);
-    const double a_step = line_search ? std::min(alpha, last_length / length) : 1.0;
-    if (a_step > 1.0) {
-      ++summary.iterations;
-      const Pose longer = Traits::plus(*pose, (a_step * delta).eval());
-      const double f = evaluate(longer, &h_trial, &g_trial);
-      if (std::isfinite(f) && f <= cost + 1e-4 * a_step * slope) {
-        const bool done = cost - f <= settings.function_tolerance * cost;
-        alpha = next_alpha(cost, f, a_step, slope);
-        last_length = a_step * length;
-        *pose = longer;
-        cost = f;
-        h = h_trial;
-        g = g_trial;
-        mu = std::min(3.0 * mu, 1e16);  // as a step the model predicted well
-        nu = 2.0;
-        if (done) {
-          summary.converged = true;
-          break;
-        }
-        continue;
-      }
-      alpha = 1.0;
-      last_m = 1e308;
-      if (summary.iterations >= settings.max_iterations + 1) break;
     }
     ++summary.iterations;
-    const double model_decrease = -(slope + 0.5 * quad);
+    const double model_decrease = -(g.dot(delta) + 0.5 * delta.dot(hs * delta));
     const Pose candidate = Traits::plus(*pose, delta);
-    const double new_cost = evaluate(candidate, &h_trial, &g_trial);
-    if (std::isfinite(new_cost) &&
-        std::abs(cost - new_cost) <= settings.function_tolerance * cost) {
-      summary.converged = true;  // Ceres keeps x here, not the candidate
-      break;
-    }
+    const double new_cost = evaluate(candidate, &h_trial, &t_trial, &g_trial);
     // A step the model does not predict to decrease the cost is invalid (Ceres: shrink).
     const double ratio = model_decrease > 0.0 ? (cost - new_cost) / model_decrease : -1.0;
-    if (std::isfinite(new_cost) && ratio > 1e-3) {
-      if (line_search) alpha = next_alpha(cost, new_cost, 1.0, slope);
-      last_length = length;
+    if (std::isfinite(new_cost) && ratio > 1e-3 && h_trial.allFinite() && g_trial.allFinite()) {
       *pose = candidate;
       cost = new_cost;
       h = h_trial;
+      t = t_trial;
       g = g_trial;
+      if (settings.newton && std::abs(ratio - 1.0) > 0.25) {
+        const Normal measured = correction_at(*pose);
+        if (measured.allFinite()) c = measured;
+      }
+      step_matrix();
+      sigmas = newton_sigmas(hs, g);
       mu = std::min(mu / std::max(1.0 / 3.0, 1.0 - std::pow(2.0 * ratio - 1.0, 3)), 1e16);
       nu = 2.0;
     } else {
       mu /= nu;
       nu *= 2.0;
-      last_m = 1e308;    // the next step is another one (more damping)
-      if (mu < 1e-32) {  // Ceres's min_trust_region_radius: no step decreases the cost
-        summary.converged = true;
-        break;
-      }
+      if (mu < 1e-32) break;  // Ceres's min_trust_region_radius: no step decreases the cost
     }
   }
   summary.final_cost = cost;
+  summary.step_sigmas = sigmas;
+  summary.converged = sigmas <= settings.step_sigma || at_resolution;
   return summary;
 }
 

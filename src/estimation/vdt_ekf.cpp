@@ -77,7 +77,15 @@ LocalizationResult VdtEkfLocalizer::update(const OdometryStep& odometry, const S
     }
   }
   if (start_ != nullptr) {
-    const LocalizationResult r = start_->solve(pts, xi);
+    // The start is the maximum a posteriori pose (the prediction as the solve's prior), where
+    // the iterated update below linearizes: a solve of the scan alone lands at its own minimum,
+    // which a sparse observation (a camera's few boundary points) can leave far along the
+    // directions it hardly constrains.
+    const Eigen::LLT<Eigen::Matrix3d> llt(p_);
+    const LocalizationResult r =
+        llt.info() == Eigen::Success
+            ? start_->solve(pts, xi, PosePrior<2>{x_, llt.solve(Eigen::Matrix3d::Identity())})
+            : start_->solve(pts, xi);
     if ((r.status == LocalizationStatus::kConverged ||
          r.status == LocalizationStatus::kNotConverged) &&
         explained_fraction(model_, pts, r.pose, so.explained_distance) >

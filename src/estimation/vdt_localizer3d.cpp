@@ -232,12 +232,15 @@ LocalizationResult3 VdtOptimizationLocalizer3::update_with(const OdometryStep3& 
     return x.status == LocalizationStatus::kConverged ||
            x.status == LocalizationStatus::kNotConverged;
   };
-  // A solve that stopped at its iteration limit goes to the multi-start (which continues it and
-  // tries the starts around the prediction): on CATEC accepting it as it is costs 3x in attitude.
-  double explained =
-      r.status == LocalizationStatus::kConverged
-          ? explained_fraction(model, observations, r.pose, options_.explained_distance)
-          : 0.0;
+  // A solve that did not converge goes to the multi-start (which continues it and tries the
+  // starts around the prediction): on CATEC accepting it as it is costs 3x in attitude. What the
+  // map explains at it is still measured: lost detection judges every update, whatever its
+  // status (issue 57).
+  const double explained_at =
+      usable(r) ? explained_fraction(model, observations, r.pose, options_.explained_distance)
+                : 0.0;
+  double explained = r.status == LocalizationStatus::kConverged ? explained_at : 0.0;
+  bool replaced = false;  // by the multi-start's solution (explained is then measured at it)
   if (explained < options_.accept_fraction && starts_ != StartSet::kNone) {
     MultiStartOptions ms = options_.multi_start;
     // The attitude grid (~120 subsample solves) only to re-acquire: a tracked scan needs the starts
@@ -254,13 +257,15 @@ LocalizationResult3 VdtOptimizationLocalizer3::update_with(const OdometryStep3& 
     if (e > explained) {
       r = std::move(m);
       explained = e;
+      replaced = true;
     } else {
       r.work.solves = m.work.solves;
       r.iterations = m.iterations;
     }
   }
-  r.explained = explained;
   const bool accepted = usable(r) && r.has_covariance && explained >= options_.accept_fraction;
+  // The fraction reported (and judged by lost detection): at the solution kept, converged or not.
+  r.explained = replaced ? explained : explained_at;
   if (accepted) {
     if (four_dof) r.covariance = with_held_attitude(observations, r, held_sigma);
     pose_ = r.pose;

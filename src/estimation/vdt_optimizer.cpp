@@ -55,8 +55,8 @@ void VdtOptimizerT<Dim>::validate_and_default() {
   VDTNAV_CHECK(options.max_iterations >= 1, "optimizer: max_iterations must be >= 1");
   VDTNAV_CHECK(options.function_tolerance > 0.0 && options.function_tolerance < 1.0,
                "optimizer: function_tolerance must be in (0, 1)");
-  VDTNAV_CHECK(options.step_sigma >= 0.0 && std::isfinite(options.step_sigma),
-               "optimizer: step_sigma must be finite and >= 0");
+  VDTNAV_CHECK(options.step_sigma > 0.0 && std::isfinite(options.step_sigma),
+               "optimizer: step_sigma must be finite and > 0");
   VDTNAV_CHECK(options.gate_rounds >= 1, "optimizer: gate_rounds must be >= 1");
   VDTNAV_CHECK(options.min_inliers >= 3, "optimizer: min_inliers must be >= 3");
   VDTNAV_CHECK(options.loss_scale > 0.0, "optimizer: loss_scale must be > 0");
@@ -122,14 +122,7 @@ typename VdtOptimizerT<Dim>::Result VdtOptimizerT<Dim>::solve(const Observations
   // prior joins it in the same units, times s^2, the a priori variance of one disparity component
   // (the map floor plus the readings' own noise spread over the Dim components):
   //   G = 1/2 sum |d_i|^2 + s^2 / 2 e^T I e,   i.e.  s^2 (1/2 sum |d_i|^2 / s^2 + 1/2 e^T I e).
-  double noise = 0.0;
-  if (!scan.point_covariances.empty()) {
-    for (const auto& c : scan.point_covariances) noise += c.trace() / Dim;
-    noise /= static_cast<double>(scan.point_covariances.size());
-  } else {
-    noise = scan.sigma_range * scan.sigma_range / Dim;
-  }
-  const double s2 = model_.map_sigma() * model_.map_sigma() + noise;
+  const double s2 = detail::disparity_variance(model_, scan);
   VDTNAV_CHECK(s2 > 0.0, "optimizer: a prior needs a disparity variance > 0 (map floor or noise)");
   PosePrior<Dim> scaled = prior;
   scaled.information *= s2;
@@ -151,6 +144,7 @@ typename VdtOptimizerT<Dim>::Result VdtOptimizerT<Dim>::solve_with(const Observa
   SolveSetup setup{options_.solver, options_.trust_region, options_.max_iterations,
                    options_.four_dof, options_.function_tolerance};
   setup.step_sigma = options_.step_sigma;
+  setup.newton = options_.newton;
   // IRLS passes per level of the coarse alignment: in 3D one pass per level already lands in the
   // basin of the fine solve, and each pass is a full solve over thousands of 3D lookups.
   constexpr int kIrlsPasses = Dim == 2 ? 3 : 1;
@@ -162,6 +156,11 @@ typename VdtOptimizerT<Dim>::Result VdtOptimizerT<Dim>::solve_with(const Observa
     coarse_setup.function_tolerance = 1e-4;
     coarse_setup.parameter_tolerance = 1e-4;
   }
+  // The coarse-to-fine passes only have to land in the basin of the next level: their test (C)
+  // asks for a step within one sigma (of that level), and their IRLS weights, fixed per pass,
+  // make Newton's curvature (N) moot (each pass's weighted Gauss-Newton solve is re-weighted).
+  coarse_setup.step_sigma = std::max(setup.step_sigma, 1.0);
+  coarse_setup.newton = false;
   const std::vector<int> order = lookup_order<Dim>(model_.map(), scan, guess);
 
   // Coarse alignment, only when the guess is poor (median disparity > coarse_threshold, 10 cm in
@@ -192,7 +191,8 @@ typename VdtOptimizerT<Dim>::Result VdtOptimizerT<Dim>::solve_with(const Observa
                                              coarse_setup, kIrlsPasses, prior, x);
     }
     if (kFineIrls) {
-      result.iterations += solve_cauchy_irls(model_, scan, wide, 0.1, setup, kIrlsPasses, prior, x);
+      result.iterations +=
+          solve_cauchy_irls(model_, scan, wide, 0.1, coarse_setup, kIrlsPasses, prior, x);
     }
     result.work.coarse_to_fine = 1;
   };

@@ -52,6 +52,7 @@ struct Localize3dArgs {
   std::string lidar_pose;
   std::string imu_csv;  // --imu FILE: t,wx,wy,wz,ax,ay,az
   std::string times;    // --times FILE: a stamp per scan (KITTI's times.txt)
+  std::string odom;     // --odom FILE: the odometry's pose per scan (KITTI, or TUM by stamp)
   int dof = 6;
   Map3dOptions map_options;
   double voxel = -1.0;
@@ -360,6 +361,15 @@ void run_localize3d(const Localize3dArgs& a) {
                             " stamps for " + std::to_string(scans.size()) + " scans");
     }
   }
+  // --odom: the odometry's pose of each scan (KITTI: a line per cloud in name order; TUM: matched
+  // to the clouds' name stamps, as map3d --poses reads them); the increment between consecutive
+  // scans is the prediction, with the noise of the settings (localize3d.sigma_*).
+  std::vector<Pose3> odom_poses;
+  if (!a.odom.empty()) {
+    if (!a.bag.empty())
+      throw UsageError("localize3d: --odom is for --scan/--scans (a bag has --odom-topic)");
+    odom_poses = poses_of_scans(load_scan_poses(a.odom), scans);
+  }
   // The outputs appear when the run completes: a sequence's folder is written under a temporary
   // name beside it (staged_output.hpp), so a bad scan in the middle leaves nothing behind.
   StagedOutputs staged;
@@ -470,6 +480,8 @@ void run_localize3d(const Localize3dArgs& a) {
                        100.0 * g.explained, why.c_str(), g.nodes, g.seconds);
         }
       } else {  // from --init (or the prediction while nothing was accepted)
+        // The guess moves with the odometry meanwhile (--odom, a bag's odometry).
+        if (odometry && count > 1) last = last * odometry->delta;
         r.result = localize_from_guess(tracker.tracker(), obs, last);
       }
       r.explained = r.result.explained;
@@ -563,8 +575,15 @@ void run_localize3d(const Localize3dArgs& a) {
     const ObservationSet3 obs = observations_from_cloud(cloud, co, times.seconds);
     const double read_ms =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-    handle(scans[k], stamps.empty() ? stamp_of(scans[k], k) : stamps[k], obs, cloud.size(), read_ms,
-           std::nullopt);
+    const double t = stamps.empty() ? stamp_of(scans[k], k) : stamps[k];
+    std::optional<OdometryStep3> odometry;
+    if (!odom_poses.empty() && k > 0) {
+      odometry = OdometryStep3{};
+      odometry->delta = odom_poses[k - 1].inverse() * odom_poses[k];
+      odometry->dt = std::max(t - (stamps.empty() ? stamp_of(scans[k - 1], k - 1) : stamps[k - 1]),
+                              1e-3);
+    }
+    handle(scans[k], t, obs, cloud.size(), read_ms, odometry);
   }
 #ifdef VDTNAV_CLI_ROS
   if (!a.bag.empty()) {
@@ -722,6 +741,12 @@ void add_localize3d_command(CLI::App& app) {
                   "KITTI's times.txt), for clouds whose names are not their stamps (default: the "
                   "names', else the index); the time base of --imu and deskewing")
       ->check(input_file("--times"));
+  cmd->add_option("--odom", args->odom,
+                  "--scan/--scans: the odometry's pose of each scan, KITTI (3x4 row-major, a line "
+                  "per cloud in name order) or TUM (stamps matched to the clouds' names), as "
+                  "map3d --poses reads them: the increments between scans are the prediction "
+                  "(noise: settings localize3d.sigma_*)")
+      ->check(input_file("--odom"));
   cmd->add_option("--init", args->init,
                   "Initial guess x,y,z,roll,pitch,yaw (metres, radians; default identity), or "
                   "'global': found from the first scans with no prior (branch and bound over "

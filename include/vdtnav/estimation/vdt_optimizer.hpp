@@ -60,17 +60,20 @@ struct VdtOptimizerOptions {
   double loss_scale = 0.05;  ///< metres: where the robust loss departs from quadratic
   CovarianceMethod covariance = CovarianceMethod::kImplicitFunction;
   int max_iterations = 25;
-  /// A solve stops when a step changes the cost by less than this fraction of it (Ceres's
-  /// function_tolerance). 1e-6 by default; a tracker whose prediction is already close can stop
-  /// far earlier on a noisy real map, where the last steps creep (VdtLocalizer3Options).
+  /// Ceres's function tolerance (solver ceres only): a solve stops when a step changes the cost by
+  /// less than this fraction of it. The dense solver stops by its convergence test (step_sigma).
   double function_tolerance = 1e-6;
-  /// With the dense solver, > 0 turns on (scan_lm.hpp) a line search along the Gauss-Newton
-  /// direction and a stop once the steps still to go (their geometric sum) are at most this many
-  /// of the pose's standard deviations. On the Intel log at 0.1 it halves the iterations per scan
-  /// (97 -> 46) with the same translation error, but the rotation error moves (0.48 -> 0.53 deg
-  /// against the study's 0.5): 0 (off, Ceres's tests alone) stays the default
-  /// (docs/benchmarks.md, BM_LocalizeIntelStepSigma).
-  double step_sigma = 0.0;
+  /// The convergence test of the dense solver (scan_lm.hpp (C)): a solve is converged, and stops,
+  /// when its Newton step is at most this many of the pose's standard deviations, measured under
+  /// sigma^2 H^-1 with sigma the a priori disparity noise (map floor and reading noise). The
+  /// status converged means this test held; 0.01 leaves an error of a hundredth of the reported
+  /// uncertainty.
+  double step_sigma = 0.01;
+  /// The dense solver's steps on Newton's curvature of the robust VCD, the robust loss's
+  /// second-order term and the field's curvature (scan_lm.hpp (K)); false: the IRLS matrix alone
+  /// (what Ceres uses; linear convergence where readings sit near the loss scale or walls are
+  /// thick, so more iterations reach the same test).
+  bool newton = true;
   int gate_rounds = 3;   ///< re-gate at the solution and solve again while the inliers change
   int min_inliers = 10;  ///< fewer usable beams: kTooFewObservations
   /// Coarse-to-fine levels used when the guess is poor (median disparity > coarse_threshold): the
