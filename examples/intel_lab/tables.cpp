@@ -27,25 +27,24 @@ void write_tables(std::ostream& csv, std::ostream& md, const std::vector<Row>& r
   for (const Row& r : rows) {
     char b[1024];
     const bool loc = r.ate.ok();
-    std::snprintf(b, sizeof b,
-                  "%s,%zu,%.6f,%.6f,%.4f,%.4f,%.8f,%.6f,%.6f,%.6f,%.4f,%.6f,%.4f,%zu,%zu,%d,%.4f,"
-                  "%.4f,%.4f,%.4f,%.4f,%.4f,%zu,%zu,%.4f,%.4f,%.4f,%zu,%.3f,%zu,%.4f,%.4f,%.0f,%.0f,"
-                  "%.2f,%.2f,%zu,%.6f,%.4f\n",
-                  r.method.c_str(), r.rel.used, r.rel.translation.mean, r.rel.translation.std,
-                  r.rel.rotation.mean * kRadToDeg, r.rel.rotation.std * kRadToDeg,
-                  r.rel.translation_squared.mean,
-                  r.rel.rotation_squared.mean * kRadToDeg * kRadToDeg,
-                  loc ? r.ate.unaligned_translation.rmse : 0.0, loc ? r.ate.translation.rmse : 0.0,
-                  loc ? r.ate.unaligned_rotation.rmse * kRadToDeg : 0.0,
-                  r.rpe.ok() ? r.rpe.translation.rmse : 0.0,
-                  r.rpe.ok() ? r.rpe.rotation.rmse * kRadToDeg : 0.0, r.lost, r.scans,
-                  r.has_cov ? 1 : 0, r.anees.anees, r.anees.interval.lower, r.anees.interval.upper,
-                  r.ms.mean, r.ms.max, r.wall_s, r.rel_nees.used, r.rel_nees.skipped_no_covariance,
-                  r.rel_nees.mean, r.rel_nees.median, r.rel_nees.fraction_inside, r.flagged_lost,
-                  r.cpu_ms_max, r.has_cov ? r.scans - r.anees.count : 0, r.ms.median, r.ms.p99,
-                  r.iterations_median, r.iterations_p99, r.converged_pct, r.correct_converged_pct,
-                  r.rel_converged.used, r.rel_converged.translation.mean,
-                  r.rel_converged.rotation.mean * kRadToDeg);
+    std::snprintf(
+        b, sizeof b,
+        "%s,%zu,%.6f,%.6f,%.4f,%.4f,%.8f,%.6f,%.6f,%.6f,%.4f,%.6f,%.4f,%zu,%zu,%d,%.4f,"
+        "%.4f,%.4f,%.4f,%.4f,%.4f,%zu,%zu,%.4f,%.4f,%.4f,%zu,%.3f,%zu,%.4f,%.4f,%.0f,%.0f,"
+        "%.2f,%.2f,%zu,%.6f,%.4f\n",
+        r.method.c_str(), r.rel.used, r.rel.translation.mean, r.rel.translation.std,
+        r.rel.rotation.mean * kRadToDeg, r.rel.rotation.std * kRadToDeg,
+        r.rel.translation_squared.mean, r.rel.rotation_squared.mean * kRadToDeg * kRadToDeg,
+        loc ? r.ate.unaligned_translation.rmse : 0.0, loc ? r.ate.translation.rmse : 0.0,
+        loc ? r.ate.unaligned_rotation.rmse * kRadToDeg : 0.0,
+        r.rpe.ok() ? r.rpe.translation.rmse : 0.0,
+        r.rpe.ok() ? r.rpe.rotation.rmse * kRadToDeg : 0.0, r.lost, r.scans, r.has_cov ? 1 : 0,
+        r.anees.anees, r.anees.interval.lower, r.anees.interval.upper, r.ms.mean, r.ms.max,
+        r.wall_s, r.rel_nees.used, r.rel_nees.skipped_no_covariance, r.rel_nees.mean,
+        r.rel_nees.median, r.rel_nees.fraction_inside, r.flagged_lost, r.cpu_ms_max,
+        r.has_cov ? r.scans - r.anees.count : 0, r.ms.median, r.ms.p99, r.iterations_median,
+        r.iterations_p99, r.converged_pct, r.correct_converged_pct, r.rel_converged.used,
+        r.rel_converged.translation.mean, r.rel_converged.rotation.mean * kRadToDeg);
     csv << b;
     std::string anees = r.has_cov ? "" : "—";
     if (r.has_cov) {

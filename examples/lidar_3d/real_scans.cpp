@@ -185,8 +185,9 @@ void run_real_scans(const RealScans& o) {
              ? "odometry drawn from the reference with 5 % per metre + 0.02 m/s, 5 % per radian + "
                "0.01 rad/s of noise (the 4-DOF run: an IMU's roll and pitch, sigma " +
                    std::to_string(o6.sigma_imu_attitude) + " rad)"
-             : "the increments of the odometry " + o.odom + " (the settings' odometry noise; the "
-               "4-DOF run holds the prediction's roll and pitch)")
+             : "the increments of the odometry " + o.odom +
+                   " (the settings' odometry noise; the "
+                   "4-DOF run holds the prediction's roll and pitch)")
      << ". Errors and NEES are against the reference, which is an estimate, not ground "
         "truth. ANEES interval: 95 % (chi-square, N x dof).\n\n";
   write_rows(csv, md, truth, runs, 2);

@@ -75,6 +75,33 @@ void compare_on_the_tour(std::mt19937& rng, VdtOptimizerOptions base, Check chec
   }
 }
 
+/// The readings the gate (3.3) keeps at `pose` (a solve with gate_rounds 1 uses these).
+std::vector<int> gated_at(const VdtSensorModel& model, const ScanPoints& pts, const Pose2& pose) {
+  const Eigen::Matrix2d r = Eigen::Rotation2Dd(pose[2]).toRotationMatrix();
+  std::vector<int> beams;
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    bool inlier = false;
+    (void)model.disparity_value(r, pose.head<2>(), pts.points[i], &inlier);
+    if (inlier) beams.push_back(static_cast<int>(i));
+  }
+  return beams;
+}
+
+/// The robust VCD sum_i rho(|d_i|^2) over `beams` at `pose`, from the sensor model's value-only
+/// lookup: the finite-difference oracle's cost (independent of the solver's Jacobians).
+double robust_cost(const VdtSensorModel& model, const ScanPoints& pts,
+                   const std::vector<int>& beams, RobustLoss loss, double scale,
+                   const Pose2& pose) {
+  const Eigen::Matrix2d r = Eigen::Rotation2Dd(pose[2]).toRotationMatrix();
+  double cost = 0.0;
+  for (const int i : beams) {
+    bool unused = false;
+    const double s = model.disparity_value(r, pose.head<2>(), pts.points[i], &unused).squaredNorm();
+    cost += loss == RobustLoss::kCauchy ? scale * scale * std::log1p(s / (scale * scale)) : s;
+  }
+  return cost;
+}
+
 TEST(ScanSolvers, TheDenseCauchyCostIsTheSumOfTheReadingsLogTerms) {
   // The dense solver sums the Cauchy cost as b log prod_i (1 + s_i / b); here against the sum of
   // b log1p(s_i / b) over the solve's readings at its estimate. A loss scale of 2 mm makes the
@@ -97,21 +124,9 @@ TEST(ScanSolvers, TheDenseCauchyCostIsTheSumOfTheReadingsLogTerms) {
     ASSERT_TRUE(r.status == LocalizationStatus::kConverged ||
                 r.status == LocalizationStatus::kNotConverged);
     const VdtSensorModel& model = opt.sensor_model();
-    const Eigen::Rotation2Dd at_guess(guess[2]), at_estimate(r.pose[2]);
-    double expected = 0.0;
-    int used = 0;
-    for (std::size_t i = 0; i < pts.size(); ++i) {
-      bool inlier = false;
-      (void)model.disparity_value(at_guess.toRotationMatrix(), guess.head<2>(), pts.points[i],
-                                  &inlier);
-      if (!inlier) continue;
-      ++used;
-      bool unused = false;
-      const Eigen::Vector2d d = model.disparity_value(at_estimate.toRotationMatrix(),
-                                                      r.pose.head<2>(), pts.points[i], &unused);
-      expected += scale * scale * std::log1p(d.squaredNorm() / (scale * scale));
-    }
-    ASSERT_EQ(used, r.inliers);
+    const std::vector<int> beams = gated_at(model, pts, guess);
+    const double expected = robust_cost(model, pts, beams, RobustLoss::kCauchy, scale, r.pose);
+    ASSERT_EQ(static_cast<int>(beams.size()), r.inliers);
     // final_cost is the robust VCD sum rho (twice the solver's 1/2 sum rho).
     EXPECT_NEAR(r.final_cost, expected, 1e-9 * expected) << "loss scale " << scale;
   }
@@ -154,20 +169,6 @@ TEST(ScanSolvers, DenseAndCeresReachTheSameOptimumAndCovarianceIn3dWithSixAndFou
   }
 }
 
-/// The robust VCD sum_i rho(|d_i|^2) over `beams` at `pose`, from the sensor model's value-only
-/// lookup: the finite-difference oracle's cost (independent of the solver's Jacobians).
-double robust_cost(const VdtSensorModel& model, const ScanPoints& pts, const std::vector<int>& beams,
-                   RobustLoss loss, double scale, const Pose2& pose) {
-  const Eigen::Matrix2d r = Eigen::Rotation2Dd(pose[2]).toRotationMatrix();
-  double cost = 0.0;
-  for (const int i : beams) {
-    bool unused = false;
-    const double s = model.disparity_value(r, pose.head<2>(), pts.points[i], &unused).squaredNorm();
-    cost += loss == RobustLoss::kCauchy ? scale * scale * std::log1p(s / (scale * scale)) : s;
-  }
-  return cost;
-}
-
 TEST(ScanSolvers, NewtonStepsReachTheMinimumInAFewIterationsAndSayWhenTheyDidNot) {
   // Issue 57: a solve is converged when Newton's step is at most step_sigma (0.01) of the pose's
   // standard deviations (scan_lm.hpp (C)). Oracle: the cost's gradient and Hessian by central
@@ -191,13 +192,7 @@ TEST(ScanSolvers, NewtonStepsReachTheMinimumInAFewIterationsAndSayWhenTheyDidNot
       ASSERT_EQ(r.status, LocalizationStatus::kConverged) << "pose " << k;
       EXPECT_LE(r.iterations, 16) << "pose " << k << " loss " << static_cast<int>(loss);
       const VdtSensorModel& model = opt.sensor_model();
-      std::vector<int> beams;
-      const Eigen::Matrix2d rg = Eigen::Rotation2Dd(guess[2]).toRotationMatrix();
-      for (std::size_t i = 0; i < pts.size(); ++i) {
-        bool inlier = false;
-        (void)model.disparity_value(rg, guess.head<2>(), pts.points[i], &inlier);
-        if (inlier) beams.push_back(static_cast<int>(i));
-      }
+      const std::vector<int> beams = gated_at(model, pts, guess);
       // F = 1/2 sum rho: gradient and Hessian by central differences (steps 1e-4 m / rad).
       const auto f = [&](const Pose2& x) {
         return 0.5 * robust_cost(model, pts, beams, loss, o.loss_scale, x);

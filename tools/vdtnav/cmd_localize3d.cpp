@@ -558,6 +558,7 @@ void run_localize3d(const Localize3dArgs& a) {
     }
     table.push_back(status_row(t, r));
   };
+  double previous_t = 0.0;  // the last scan's stamp (--odom's dt)
   for (std::size_t k = 0; k < scans.size(); ++k) {
     const auto t0 = std::chrono::steady_clock::now();
     PointTimes times;
@@ -580,9 +581,9 @@ void run_localize3d(const Localize3dArgs& a) {
     if (!odom_poses.empty() && k > 0) {
       odometry = OdometryStep3{};
       odometry->delta = odom_poses[k - 1].inverse() * odom_poses[k];
-      odometry->dt = std::max(t - (stamps.empty() ? stamp_of(scans[k - 1], k - 1) : stamps[k - 1]),
-                              1e-3);
+      odometry->dt = std::max(t - previous_t, 1e-3);
     }
+    previous_t = t;
     handle(scans[k], t, obs, cloud.size(), read_ms, odometry);
   }
 #ifdef VDTNAV_CLI_ROS
