@@ -57,9 +57,8 @@ VdtLocalizer3Options LocalizerSettings::localize3d_defaults() {
   o.explained_distance = o.multi_start.explained_distance;
   o.multi_start.enabled = false;    // --multi-start
   o.multi_start.attitude_grid = 2;  // from an identity guess 10-15 degrees off (the car pair)
-  // Lost when a window explains no more than accept_fraction (every unexplained reading counts
-  // against the pose in 3D): contradiction 1 - accept_fraction, 0.5 at least.
-  o.lost.lost_contradiction = std::max(o.lost.lost_contradiction, 1.0 - o.accept_fraction);
+  // Lost at LostDetectionOptions's levels: the contradiction counts the beams that pass through
+  // the map's surfaces (scan_agreement.hpp), not every reading the map does not explain.
   return o;
 }
 

@@ -20,9 +20,12 @@ class MultiStartReacquisition final : public Reacquisition<3> {
   }
 
   ScanAgreement weigh(const ObservationSet3& observations, LocalizationResult3& r) override {
-    // The tracker's explained fraction (at its solution; 0 when no solve converged): every
-    // reading the map does not explain contradicts the pose.
-    return ScanAgreement::all_judged(static_cast<int>(observations.size()), r.explained);
+    // At the estimate reported (a refused scan's: the prediction): explained, contradicted (the
+    // beam passed through a surface of the map) or unknown (scan_agreement.hpp). A point-cloud map
+    // lacks much of what a scan 3 m further on sees; those readings contradict nothing.
+    ScanAgreementOptions a;
+    a.explained_distance = tracker_->options().explained_distance;
+    return scan_agreement(tracker_->optimizer().sensor_model(), observations, r.pose, a);
   }
 
   std::optional<Adopted> reacquire(const OdometryStep3& odometry,

@@ -2,6 +2,9 @@
 // oracle on the same cells, and every reading's class against an independent classification —
 // brute-force distances to the surface cells, exact ray casting through the occupancy grid, and
 // the knowledge grid — at right and wrong poses of simulated scans, with part of the map unknown.
+// In 3D (no knowledge of free space), each reading against exact ray casting through the
+// occupancy of the box room: at the right pose nothing is contradicted; at a wrong one every beam
+// that runs a metre into or through a solid is, none whose segment meets no solid is.
 #include "vdtnav/estimation/scan_agreement.hpp"
 
 #include <gtest/gtest.h>
@@ -10,6 +13,7 @@
 #include <limits>
 #include <random>
 
+#include "cloud_fixture.hpp"
 #include "scan_fixture.hpp"
 #include "vdtnav/core/error.hpp"
 #include "vdtnav/sim/ray_casting.hpp"
@@ -165,6 +169,89 @@ TEST(ScanAgreement, EveryReadingIsClassedAsAnIndependentClassificationClassesIt)
   EXPECT_LT(right.contradiction(), 0.03);
   EXPECT_GT(wrong.contradiction(), 0.5);
   EXPECT_GT(right.unknown + wrong.unknown, 100) << "the unknown part must be seen";
+}
+
+TEST(ScanAgreement3, ABeamThroughASolidIsContradictedAndOneThatMeetsNoneNever) {
+  const test::World3& w = test::world3();
+  const VdtSensorModel3 model(w.map);
+  std::mt19937 rng(3);
+  const Pose3 right = test::cloud_pose(0);
+  const ObservationSet3 scan = test::simulate_cloud(right, 0.0, rng, test::Keep::kExact);
+  ASSERT_GT(scan.size(), 3000u);
+  ScanAgreementOptions o;  // 0.1 m explained; margin 2 x 0.1 + 0.05
+  const ScanAgreement at_right = scan_agreement(model, scan, right, o);
+  EXPECT_EQ(at_right.readings, static_cast<int>(scan.size()));
+  EXPECT_EQ(at_right.contradicted, 0);
+  EXPECT_GE(at_right.explained_fraction(), 0.99);
+
+  // 1.3 m along x and turned 0.4 rad: the readings put where the beams would run into the walls,
+  // the furniture, or into the room's open space. The oracle: where the beam, cast exactly
+  // through the occupancy from the wrong pose, first enters a solid (r_hit).
+  const Pose3 wrong = pose3_from_xyz_rpy(4.4, 2.9, 0.03, 0.04, -0.03, 0.75);
+  o.max_readings = 0;
+  int through = 0, clear = 0, through_found = 0, clear_contradicted = 0;
+  ScanAgreement sum;
+  for (std::size_t i = 0; i < scan.size(); ++i) {
+    ObservationSet3 one = scan.subsampled(scan.size());  // reading 0 only: re-filled below
+    one.points = {scan.points[i]};
+    one.directions = {scan.directions[i]};
+    one.ranges = {scan.ranges[i]};
+    one.beam = {scan.beam[i]};
+    const ScanAgreement a = scan_agreement(model, one, wrong, o);
+    sum += a;
+    if (a.explained == 1) continue;
+    const Eigen::Vector3d u = wrong.linear() * scan.directions[i];
+    const Eigen::Vector3d origin = wrong * scan.points[i] - scan.ranges[i] * u;
+    const auto hit = [&](const Eigen::Vector3d& o) {
+      return sim::cast_ray<3>(w.occupancy, o, u, 60.0, sim::RaySurface::kCellBoundary);
+    };
+    // Two directions across the beam, for the beams parallel to it 1.5 voxels away.
+    const Eigen::Vector3d e1 = u.unitOrthogonal(), e2 = u.cross(e1);
+    const Eigen::Vector3d across[4] = {e1, -e1, e2, -e2};
+    const double h = w.map.resolution();
+    double nearby = hit(origin);
+    for (const Eigen::Vector3d& e : across) nearby = std::min(nearby, hit(origin + 1.5 * h * e));
+    if (hit(origin) + 1.0 < scan.ranges[i] && hit(origin) > 0.3) {  // a metre into or through
+      ++through;
+      through_found += a.contradicted;
+    } else if (!(nearby < scan.ranges[i] + 0.1)) {  // neither it nor the beams beside it meet one
+      ++clear;
+      clear_contradicted += a.contradicted;
+    }
+  }
+  std::printf(
+      "wrong pose: %d readings, %d explained, %d contradicted, %d unknown; %d through a "
+      "solid (%d contradicted), %d meeting none (%d contradicted)\n",
+      sum.readings, sum.explained, sum.contradicted, sum.unknown, through, through_found, clear,
+      clear_contradicted);
+  EXPECT_GT(through, 300) << "the wrong pose must put beams through solids";
+  EXPECT_GT(clear, 50) << "and some into open space";
+  EXPECT_EQ(through_found, through);
+  EXPECT_EQ(clear_contradicted, 0);
+  EXPECT_GE(sum.contradicted, through);  // and no more than the readings not explained
+  EXPECT_LE(sum.contradicted, sum.readings - sum.explained - clear);
+  // The whole scan at once classifies as the readings one by one.
+  const ScanAgreement whole = scan_agreement(model, scan, wrong, o);
+  EXPECT_EQ(whole.explained, sum.explained);
+  EXPECT_EQ(whole.contradicted, sum.contradicted);
+  EXPECT_EQ(whole.unknown, sum.unknown);
+}
+
+TEST(ScanAgreement3, ABeamGrazingTheFloorAndEndingJustUnderItIsNotAPassage) {
+  // A reading of the floor at 5 degrees of incidence whose endpoint lies 0.1 m under the floor's
+  // surface (its range 1.15 m past the floor): near the floor for a metre, never out the other
+  // side. The same beam continued 3 m past the floor runs 0.26 m deep into the floor's solid:
+  // a passage, from where it came within a voxel of the floor's surface voxels.
+  const test::World3& w = test::world3();
+  const Eigen::Vector3d origin(0.5, 2.0, 0.3);
+  const double incidence = 5.0 * kPi / 180.0;
+  const Eigen::Vector3d u(std::cos(incidence), 0.0, -std::sin(incidence));
+  const double to_floor = origin.z() / std::sin(incidence);  // 3.44 m
+  const double h = w.map.resolution(), out = 2.0 * 0.1;
+  const double range = to_floor + 0.1 / std::sin(incidence);
+  EXPECT_TRUE(std::isinf(first_surface_crossing(w.map, origin, u, 0.25, range - 0.25, out)));
+  EXPECT_NEAR(first_surface_crossing(w.map, origin, u, 0.25, to_floor + 3.0, out),
+              to_floor - h / std::sin(incidence), 0.5 * h / std::sin(incidence) + h);
 }
 
 TEST(ScanAgreement, MaxReadingsAndBadOptions) {

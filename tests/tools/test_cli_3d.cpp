@@ -49,6 +49,7 @@ struct YamlResult {
   Eigen::Matrix4d pose = Eigen::Matrix4d::Zero();
   Eigen::Matrix<double, 6, 6> covariance = Eigen::Matrix<double, 6, 6>::Zero();
   double explained = -1.0;
+  double contradiction = -1.0;
 };
 
 YamlResult read_yaml(const fs::path& p) {
@@ -59,6 +60,7 @@ YamlResult read_yaml(const fs::path& p) {
   while (std::getline(in, line)) {
     if (line.rfind("status: ", 0) == 0) r.status = line.substr(8);
     if (line.rfind("explained: ", 0) == 0) r.explained = std::stod(line.substr(11));
+    if (line.rfind("contradiction: ", 0) == 0) r.contradiction = std::stod(line.substr(15));
     if (line.rfind("pose:", 0) == 0 || line.rfind("covariance:", 0) == 0) {
       block = line.substr(0, line.find(':'));
       row = 0;
@@ -239,6 +241,84 @@ TEST(Cli3d, ASequenceWritesOneYamlPerScanAndATumTrajectoryStampedByFileName) {
   for (const std::string& name : test::files_in(f.dir)) {
     EXPECT_EQ(name.find(".vdtnav-"), std::string::npos) << name;  // no temporary left
   }
+}
+
+TEST(Cli3d, OdomPredictsTheSequenceAndTheYamlSaysWhatTheMapContradictsOnceCarried5Metres) {
+  // 18 scans 0.3 m apart along x with --odom (KITTI, the path's poses); from scan 5 on the robot is
+  // carried 5 m sideways and the odometry says nothing (issue 57: "a 3D track carried 5 m off").
+  // The scans before are tracked from the odometry. After, each YAML's contradiction (the share
+  // of the readings the map judges whose beam passed through a surface) says the map contradicts
+  // the pose: 0.31-0.53 where the right poses have 0.0005. Known short (issue 57): the tracker
+  // converges 3.6 m off explaining 43-53 % (localize3d accepts 30 %), and the window of 5 scans
+  // stays below the lost level 0.5 (0.47-0.49), so these wrong poses are reported converged; the
+  // test prints them and requires what the YAML says.
+  const Fixture& f = fixture();
+  const fs::path dir = f.dir / "carried", map = f.dir / "room_carried.vdt";
+  fs::create_directories(dir / "scans");
+  ASSERT_EQ(run_cli("map3d --map " + (f.dir / "room.csv").string() + " --out " + map.string(),
+                    f.dir / "map3d_carried.log"),
+            0)
+      << read_all(f.dir / "map3d_carried.log");
+  sim::Lidar3dSpec spec;
+  spec.azimuth_step = 3.14159265358979323846 / 180.0;
+  std::mt19937 rng(11);
+  constexpr int kScans = 18, kCarried = 5;
+  const Eigen::Vector3d carry(0.0, 5.0, 0.0);
+  std::vector<Pose3> path, where;
+  std::ofstream odom(dir / "odom.kitti");
+  odom.precision(12);
+  for (int k = 0; k < kScans; ++k) {
+    path.push_back(pose3_from_xyz_rpy(2.0 + 0.3 * k, 2.5, 1.2, 0.01, -0.02, 0.1 + 0.01 * k));
+    Pose3 at = path.back();
+    if (k >= kCarried) at.translation() += carry;
+    ASSERT_EQ((*f.world)(f.world->cell_of(at.translation())), 0) << "in a solid: " << k;
+    where.push_back(at);
+    const Eigen::Matrix4d m = path.back().matrix();
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 4; ++j) odom << m(i, j) << (i == 2 && j == 3 ? "\n" : " ");
+    char name[32];
+    std::snprintf(name, sizeof name, "%.1f.pcd", 200.0 + 0.1 * k);
+    write_pcd(dir / "scans" / name, sim::simulate_lidar3d_scan(*f.world, at, spec, rng).points);
+  }
+  odom.close();
+  const fs::path out = dir / "out", log = dir / "localize3d.log";
+  const Eigen::Vector3d t0 = path[0].translation();
+  const Eigen::Vector3d rpy0 = rpy_of(path[0].linear());
+  char init[128];
+  std::snprintf(init, sizeof init, "%.4f,%.4f,%.4f,%.4f,%.4f,%.4f", t0.x() + 0.05, t0.y() - 0.05,
+                t0.z(), rpy0.x(), rpy0.y(), rpy0.z() + 0.02);
+  ASSERT_EQ(run_cli("localize3d --map " + map.string() + " --scans " + (dir / "scans").string() +
+                        " --odom " + (dir / "odom.kitti").string() + " --init " + init + " --out " +
+                        out.string(),
+                    log),
+            0)
+      << read_all(log);
+  const std::vector<std::vector<std::string>> table = read_csv(out / "status.csv");
+  ASSERT_EQ(table.size(), static_cast<std::size_t>(kScans + 1)) << read_all(log);
+  int wrong = 0;
+  for (int k = 0; k < kScans; ++k) {
+    char name[32];
+    std::snprintf(name, sizeof name, "%.1f.yaml", 200.0 + 0.1 * k);
+    const YamlResult r = read_yaml(out / name);
+    Pose3 estimate;
+    estimate.matrix() = r.pose;
+    const double off = (estimate.translation() - where[k].translation()).norm();
+    EXPECT_EQ(table[1 + k][1], r.status == "not converged" ? "not_converged" : r.status) << k;
+    std::printf("scan %d: %s, %.0f %% explained, contradiction %.3f, %.3f m off\n", k,
+                r.status.c_str(), 100.0 * r.explained, r.contradiction, off);
+    if (k < kCarried) {
+      EXPECT_EQ(r.status, "converged") << k;
+      EXPECT_LT(off, 0.05) << k;
+      EXPECT_LT(attitude_error(estimate, where[k]), 0.01) << k;
+      EXPECT_LT(r.contradiction, 0.01) << k;
+      continue;
+    }
+    if (off < 0.05) continue;  // found again
+    ++wrong;
+    EXPECT_GE(r.contradiction, 0.25) << k;
+    EXPECT_LT(r.explained, 0.6) << k;
+  }
+  EXPECT_GT(wrong, 0);
 }
 
 TEST(Cli3d, CloudsWithPerPointTimesAreDeskewedByTheVelocityOfTheLastEstimates) {
@@ -664,6 +744,15 @@ TEST(Cli3d, TheLidar3dStudyOnARealSequenceMapsTheOddScansAndLocalizesTheEvenOnes
     EXPECT_EQ(std::stod((*row)[7]), 0.0) << name;   // lost %
   }
   EXPECT_NE(read_all(out / "table.md").find("The 3 odd scans"), std::string::npos);
+  // agreement.csv: each localized scan at its pose and 5 m off in 4 directions; at the pose the
+  // map (of the other scans) is passed through by few of the beams it judges.
+  const std::vector<std::vector<std::string>> agreement = read_csv(out / "agreement.csv");
+  ASSERT_EQ(agreement.size(), 1u + 3u * 5u);
+  EXPECT_EQ(agreement[0].back(), "contradiction");
+  for (int s = 0; s < 3; ++s) {
+    EXPECT_EQ(agreement[1 + 5 * s][1], "0.0");
+    EXPECT_LT(std::stod(agreement[1 + 5 * s].back()), 0.2) << s;
+  }
 }
 #endif
 
@@ -777,7 +866,8 @@ TEST(Cli3d, TheSettingsFilesLocalize3dSectionIsWhatTheRunUses) {
                     d / "flag.txt"),
             0);
   EXPECT_TRUE(test::contains(read_all(d / "flag.txt"), "\n  accept_fraction: 0.2 "));
-  EXPECT_TRUE(test::contains(read_all(d / "flag.txt"), "lost_contradiction: 0.8 "));
+  // The lost level is the window test's own (issue 57: it no longer follows --min-explained).
+  EXPECT_TRUE(test::contains(read_all(d / "flag.txt"), "lost_contradiction: 0.5 "));
   // The run uses the file: --dof 4 with the file's held_attitude_sigma gives roll and pitch its
   // variance (without it they are NaN, FourDofHoldsRollAndPitchAtTheGuess); --attitude-sigma
   // given overrides it.

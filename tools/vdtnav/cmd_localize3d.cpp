@@ -25,6 +25,7 @@
 #include "vdtnav/estimation/localizer_factory.hpp"
 #include "vdtnav/estimation/multi_start.hpp"
 #include "vdtnav/estimation/recovering_localizer3d.hpp"
+#include "vdtnav/estimation/scan_agreement.hpp"
 #include "vdtnav/estimation/vdt_optimizer.hpp"
 #include "vdtnav/eval/trajectory_metrics.hpp"
 #include "vdtnav/io/imu_table.hpp"
@@ -91,6 +92,7 @@ struct ScanReport {
   std::string scan;
   LocalizationResult3 result;
   double explained = 0.0;
+  ScanAgreement agreement;  ///< at the pose reported (scan_agreement.hpp)
   std::size_t readings = 0, cloud_points = 0;
   double read_ms = 0.0, solve_ms = 0.0;
 };
@@ -113,6 +115,12 @@ std::string yaml_report(const ScanReport& r, int dof, double explained_distance)
   y << "dof: " << dof << "\n";
   y << "explained: " << r.explained << "  # fraction of the readings within " << explained_distance
     << " m of the map at the pose\n";
+  y << "contradiction: " << r.agreement.contradiction()
+    << "  # of the readings the map judges (explained, or their beam passed through a surface of "
+       "the map), the share that passed through\n";
+  y << "agreement: {explained: " << r.agreement.explained
+    << ", contradicted: " << r.agreement.contradicted << ", unknown: " << r.agreement.unknown
+    << "}  # readings\n";
   y << "pose:  # 4x4, row by row\n";
   for (int i = 0; i < 4; ++i) {
     y << "  - [";
@@ -295,13 +303,7 @@ void run_localize3d(const Localize3dArgs& a) {
     }
   }
   VdtLocalizer3Options& lo = settings.localize3d;
-  if (a.min_explained_given) {
-    lo.accept_fraction = a.min_explained;
-    // Lost when a window explains no more than --min-explained (every unexplained reading counts
-    // against the pose in 3D): contradiction 1 - min_explained, 0.5 at least.
-    lo.lost.lost_contradiction =
-        std::max(LostDetectionOptions{}.lost_contradiction, 1.0 - a.min_explained);
-  }
+  if (a.min_explained_given) lo.accept_fraction = a.min_explained;
   if (a.multi_start) lo.multi_start.enabled = true;
   if (a.threads >= 0) settings.threads = a.threads;
   if (!std::isnan(a.attitude_sigma)) lo.held_attitude_sigma = a.attitude_sigma;
@@ -514,6 +516,12 @@ void run_localize3d(const Localize3dArgs& a) {
       }
       r.result = tracker.update(motion, obs);
       r.explained = r.result.explained;
+      r.agreement = tracker.agreement();
+    }
+    if (r.agreement.readings == 0 && !obs.points.empty()) {  // solved alone: weighed here
+      ScanAgreementOptions ao;
+      ao.explained_distance = lo.explained_distance;
+      r.agreement = scan_agreement(optimizer.sensor_model(), obs, r.result.pose, ao);
     }
     imu_motion.add(t, r.result.pose, r.result.covariance,
                    r.result.status == LocalizationStatus::kConverged);
@@ -794,7 +802,7 @@ void add_localize3d_command(CLI::App& app) {
   CLI::Option* min_explained =
       cmd->add_option("--min-explained", args->min_explained,
                       "A converged pose explaining less of the scan is reported as refused "
-                      "(localize3d.accept_fraction; lost at 1 - this, 0.5 at least)")
+                      "(localize3d.accept_fraction)")
           ->capture_default_str();
   cmd->add_flag("--multi-start", args->multi_start,
                 "Solve again from starts around the guess when the first solution leaves "

@@ -55,11 +55,12 @@ using TrackerT = std::conditional_t<Dim == 2, Localizer2D, Localizer3D>;
 /// how a scan is weighed at a pose and how another pose is found. In 2D the scan is traced
 /// through the map (scan_agreement.hpp: explained, contradicted, or where the map knows nothing)
 /// and a branch and bound over the whole map (x, y, phi: global_localization.hpp) proposes
-/// candidates; in 3D the maps carry no unknown space, so every reading the map does not explain
-/// contradicts, and re-acquisition runs on the lost scans 1, 2, 4, 8, ...: multi-start around the
-/// prediction (multi_start.hpp), then a branch and bound over the whole map (x, y, z, yaw with
-/// roll and pitch from gravity: global_localization3d.hpp; recovering_localizer3d.hpp). The window
-/// test, the statuses and the adoption are RecoveringLocalizerT's, shared.
+/// candidates; in 3D the maps know surfaces, not free space, so a reading contradicts only when
+/// its beam passed through a surface (scan_agreement.hpp), and re-acquisition runs on the lost
+/// scans 1, 2, 4, 8, ...: multi-start around the prediction (multi_start.hpp), then a branch and
+/// bound over the whole map (x, y, z, yaw with roll and pitch from gravity:
+/// global_localization3d.hpp; recovering_localizer3d.hpp). The window test, the statuses and the
+/// adoption are RecoveringLocalizerT's, shared.
 template <int Dim>
 class Reacquisition {
  public:
