@@ -297,6 +297,8 @@ void visit(V& v, LostDetectionOptions& o) {
            "baseline...");
   v.number("sigmas", o.sigmas, "std. dev.",
            "... or this many standard deviations of the track's windows, if more");
+  v.number("scan_doubt_contradiction", o.scan_doubt_contradiction, "fraction",
+           "also in doubt when the scan alone is contradicted this much (1: never)");
   v.integer("baseline_scans", o.baseline_scans, "windows",
             "the baseline's exponential mean spans this many windows");
   v.number("min_judged", o.min_judged, "fraction",

@@ -21,6 +21,8 @@ void LostDetectionOptions::validate() const {
   VDTNAV_CHECK(std::isfinite(doubt_rise) && doubt_rise > 0.0,
                "lost detection: doubt_rise must be > 0");
   VDTNAV_CHECK(std::isfinite(sigmas) && sigmas >= 0.0, "lost detection: sigmas must be >= 0");
+  VDTNAV_CHECK(fraction(scan_doubt_contradiction),
+               "lost detection: scan_doubt_contradiction must be in [0, 1]");
   VDTNAV_CHECK(baseline_scans >= 1, "lost detection: baseline_scans must be >= 1");
 }
 
@@ -47,7 +49,9 @@ bool LostDetector::update(const ScanAgreement& scan) {
   lost_ = lost_ ? c > options_.found_contradiction : c >= options_.lost_contradiction;
   const bool risen = !std::isnan(baseline_) &&
                      c - baseline_ > std::max(options_.doubt_rise, options_.sigmas * spread());
-  doubt_ = !lost_ && (c >= options_.doubt_contradiction || risen);
+  const bool scan_contradicted =
+      scan.judged() > 0 && scan.contradiction() >= options_.scan_doubt_contradiction;
+  doubt_ = !lost_ && (c >= options_.doubt_contradiction || risen || scan_contradicted);
   // The track's own windows join its baseline W windows after they were tested, and only those
   // of a track in good standing.
   if (lost_ || doubt_) {

@@ -5,6 +5,7 @@
 #include <limits>
 #include <vector>
 
+#include "scan_scores.hpp"
 #include "vdtnav/estimation/scan_agreement.hpp"
 
 namespace vdtnav {
@@ -47,16 +48,12 @@ ScanAgreement scan_agreement(const VdtSensorModel3& model, const ObservationSet3
                              const Pose3& pose, const ScanAgreementOptions& options) {
   ScanAgreement a;
   if (scan.size() == 0) return a;
-  const std::size_t want = options.max_readings > 0
-                               ? std::min<std::size_t>(scan.size(), options.max_readings)
-                               : scan.size();
-  thread_local std::vector<int> subset;
-  subset.resize(want);
-  for (std::size_t k = 0; k < want; ++k) subset[k] = static_cast<int>(k * scan.size() / want);
+  thread_local std::vector<int> subset;  // scratch: no allocation per scan
   thread_local std::vector<BeamDisparity3> ds;
   const Eigen::Matrix3d r = pose.linear();
   const Eigen::Vector3d t = pose.translation();
-  model.disparities(r, t, scan, &subset, &ds, DisparityParts::kValue);
+  detail::agreement_disparities(model, scan, r, t, options.max_readings, &subset, &ds);
+  const std::size_t want = subset.size();
   const VdtField3& field = model.map();
   const double d2 = options.explained_distance * options.explained_distance;
   const double margin = options.margin >= 0.0

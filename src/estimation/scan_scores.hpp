@@ -65,4 +65,18 @@ double truncated_vcd_at(const VdtSensorModelT<Dim>& model, const ObservationSet<
   return sum;
 }
 
+/// The readings scan_agreement() classifies, evenly over the set (at most `max_readings`; 0: all),
+/// and their disparities (values only) at the pose (R, t): out[k] for reading (*subset)[k].
+template <int Dim>
+void agreement_disparities(const VdtSensorModelT<Dim>& model, const ObservationSet<Dim>& set,
+                           const typename PoseTraits<Dim>::Rotation& r,
+                           const typename SpaceTraits<Dim>::Vector& t, int max_readings,
+                           std::vector<int>* subset, std::vector<BeamDisparityT<Dim>>* out) {
+  const std::size_t want =
+      max_readings > 0 ? std::min<std::size_t>(set.size(), max_readings) : set.size();
+  subset->resize(want);
+  for (std::size_t k = 0; k < want; ++k) (*subset)[k] = static_cast<int>(k * set.size() / want);
+  model.disparities(r, t, set, subset, out, DisparityParts::kValue);
+}
+
 }  // namespace vdtnav::detail

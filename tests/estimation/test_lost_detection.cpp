@@ -471,5 +471,35 @@ TEST(RecoveringLocalizer, APlaceTheMapLacksIsNoEvidenceAgainstTheTrack) {
   EXPECT_GT(c_all_known / right_in_gap, 0.15);
 }
 
+TEST(LostDetection, AScanAloneContradictedAtScanDoubtContradictionIsInDoubt) {
+  // Five right scans (nothing contradicted), then one whose readings the map judges are 60 %
+  // contradicted: the window's sum (0.12 contradicted) neither reaches the levels nor rises enough
+  // above a baseline that does not exist yet; the scan alone does, with the 3D setting.
+  const auto scan = [](int explained, int contradicted) {
+    ScanAgreement a;
+    a.readings = explained + contradicted;
+    a.explained = explained;
+    a.contradicted = contradicted;
+    return a;
+  };
+  LostDetectionOptions three_d;
+  three_d.scan_doubt_contradiction = 0.5;
+  LostDetector plain, with_scan(three_d);
+  for (int k = 0; k < 5; ++k) {
+    EXPECT_FALSE(plain.update(scan(1000, 0)));
+    EXPECT_FALSE(with_scan.update(scan(1000, 0)));
+  }
+  EXPECT_FALSE(plain.update(scan(400, 600)));
+  EXPECT_FALSE(with_scan.update(scan(400, 600)));
+  EXPECT_FALSE(plain.in_doubt());
+  EXPECT_TRUE(with_scan.in_doubt());
+  EXPECT_FALSE(with_scan.lost());
+  // The next right scan: no longer in doubt.
+  with_scan.update(scan(1000, 0));
+  EXPECT_FALSE(with_scan.in_doubt());
+  three_d.scan_doubt_contradiction = 1.5;
+  EXPECT_THROW(three_d.validate(), ConfigError);
+}
+
 }  // namespace
 }  // namespace vdtnav

@@ -243,15 +243,15 @@ TEST(Cli3d, ASequenceWritesOneYamlPerScanAndATumTrajectoryStampedByFileName) {
   }
 }
 
-TEST(Cli3d, OdomPredictsTheSequenceAndTheYamlSaysWhatTheMapContradictsOnceCarried5Metres) {
-  // 18 scans 0.3 m apart along x with --odom (KITTI, the path's poses); from scan 5 on the robot is
-  // carried 5 m sideways and the odometry says nothing (issue 57: "a 3D track carried 5 m off").
-  // The scans before are tracked from the odometry. After, each YAML's contradiction (the share
-  // of the readings the map judges whose beam passed through a surface) says the map contradicts
-  // the pose: 0.31-0.53 where the right poses have 0.0005. Known short (issue 57): the tracker
-  // converges 3.6 m off explaining 43-53 % (localize3d accepts 30 %), and the window of 5 scans
-  // stays below the lost level 0.5 (0.47-0.49), so these wrong poses are reported converged; the
-  // test prints them and requires what the YAML says.
+TEST(Cli3d, OdomPredictsTheSequenceAndATrackCarried5MetresIsFlaggedUntilFoundAgain) {
+  // 24 scans 0.2 m apart along x with --odom (KITTI, the path's poses); from scan 12 on the robot
+  // is carried 5 m sideways and the odometry says nothing (issue 57: "a 3D track carried 5 m
+  // off"). The scans before are tracked from the odometry. After, the tracker converges 3.6 m off
+  // explaining 43-53 % (localize3d accepts 30 %), but each YAML's contradiction (the share of the
+  // readings the map judges whose beam passed through a surface) is ~0.5 where the track's was
+  // 0.0005: the scan alone contradicted at the lost level puts the track in doubt
+  // (localize3d.lost.scan_doubt_contradiction), so that no wrong pose is reported converged, and
+  // the doubt's global search finds the robot, here on that same scan.
   const Fixture& f = fixture();
   const fs::path dir = f.dir / "carried", map = f.dir / "room_carried.vdt";
   fs::create_directories(dir / "scans");
@@ -262,13 +262,13 @@ TEST(Cli3d, OdomPredictsTheSequenceAndTheYamlSaysWhatTheMapContradictsOnceCarrie
   sim::Lidar3dSpec spec;
   spec.azimuth_step = 3.14159265358979323846 / 180.0;
   std::mt19937 rng(11);
-  constexpr int kScans = 18, kCarried = 5;
+  constexpr int kScans = 24, kCarried = 12;
   const Eigen::Vector3d carry(0.0, 5.0, 0.0);
   std::vector<Pose3> path, where;
   std::ofstream odom(dir / "odom.kitti");
   odom.precision(12);
   for (int k = 0; k < kScans; ++k) {
-    path.push_back(pose3_from_xyz_rpy(2.0 + 0.3 * k, 2.5, 1.2, 0.01, -0.02, 0.1 + 0.01 * k));
+    path.push_back(pose3_from_xyz_rpy(2.0 + 0.2 * k, 2.5, 1.2, 0.01, -0.02, 0.1 + 0.01 * k));
     Pose3 at = path.back();
     if (k >= kCarried) at.translation() += carry;
     ASSERT_EQ((*f.world)(f.world->cell_of(at.translation())), 0) << "in a solid: " << k;
@@ -295,7 +295,7 @@ TEST(Cli3d, OdomPredictsTheSequenceAndTheYamlSaysWhatTheMapContradictsOnceCarrie
       << read_all(log);
   const std::vector<std::vector<std::string>> table = read_csv(out / "status.csv");
   ASSERT_EQ(table.size(), static_cast<std::size_t>(kScans + 1)) << read_all(log);
-  int wrong = 0;
+  int found_after = -1, flagged = 0, wrong_converged = 0;
   for (int k = 0; k < kScans; ++k) {
     char name[32];
     std::snprintf(name, sizeof name, "%.1f.yaml", 200.0 + 0.1 * k);
@@ -308,17 +308,23 @@ TEST(Cli3d, OdomPredictsTheSequenceAndTheYamlSaysWhatTheMapContradictsOnceCarrie
                 r.status.c_str(), 100.0 * r.explained, r.contradiction, off);
     if (k < kCarried) {
       EXPECT_EQ(r.status, "converged") << k;
-      EXPECT_LT(off, 0.05) << k;
+      EXPECT_LT(off, 0.08) << k;  // measured 0.7-5.2 cm on the 0.1 m map of the voxel centres
       EXPECT_LT(attitude_error(estimate, where[k]), 0.01) << k;
       EXPECT_LT(r.contradiction, 0.01) << k;
       continue;
     }
-    if (off < 0.05) continue;  // found again
-    ++wrong;
-    EXPECT_GE(r.contradiction, 0.25) << k;
-    EXPECT_LT(r.explained, 0.6) << k;
+    const bool right = off < 0.1 && attitude_error(estimate, where[k]) < 0.01;
+    if (r.status == "converged" && right && found_after < 0) found_after = k - kCarried;
+    if (found_after < 0) flagged += r.status == "refused" || r.status == "lost";
+    if (!right) {
+      EXPECT_GE(r.contradiction, 0.25) << k;  // the YAML says so
+    }
+    wrong_converged += r.status == "converged" && !right;
   }
-  EXPECT_GT(wrong, 0);
+  EXPECT_GE(found_after, 0);
+  EXPECT_LE(found_after, 6);
+  EXPECT_EQ(flagged, found_after);  // every scan before it
+  EXPECT_EQ(wrong_converged, 0);
 }
 
 TEST(Cli3d, CloudsWithPerPointTimesAreDeskewedByTheVelocityOfTheLastEstimates) {

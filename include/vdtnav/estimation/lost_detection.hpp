@@ -12,7 +12,9 @@
 ///
 ///     lost        <=>  c >= lost_contradiction              (from a decided window)
 ///     found again <=>  c <= found_contradiction             (from a decided window)
-///     in doubt    <=>  not lost and (c >= doubt_contradiction  or  c - b > max(doubt_rise, sigmas
+///     in doubt    <=>  not lost and (c >= doubt_contradiction  or  c_scan >=
+///     scan_doubt_contradiction
+///                      or  c - b > max(doubt_rise, sigmas
 ///     s))
 ///
 /// with b and s the exponential mean and standard deviation (over `baseline_scans`) of the
@@ -51,6 +53,10 @@ struct LostDetectionOptions {
   double doubt_rise = 0.15;
   /// ... or this many standard deviations of the track's windows, if more.
   double sigmas = 3.0;
+  /// Also in doubt (from a decided window) when the scan alone is contradicted this much: a jump
+  /// of the track onto a wrong pose shows in its first scan before the window's sum can rise
+  /// (1: never, the 2D default, where a right scan's people and doors reach it).
+  double scan_doubt_contradiction = 1.0;
   /// Windows over which the baseline averages (exponential mean, weight 1 / baseline_scans).
   int baseline_scans = 50;
   /// The window decides only when the map judges (explains or contradicts) at least this share of

@@ -20,9 +20,13 @@
 /// every unexplained reading put right poses at 0.43-0.97 and flagged 43 % of the run lost
 /// (issue 57); a found pose is adopted on one scan, not verified over several
 /// (a VLP-16 scan of ~2000 readings decides what a 2D scan's window does, and the search refuses
-/// ambiguous places itself); a window in doubt does not refuse a pose the tracker accepted (no
-/// search for a clearly better one runs); and every scan enters the window (a voxelized 3D scan
-/// keeps hundreds of readings).
+/// ambiguous places itself); doubt comes from the rise above the track's own windows or from one
+/// scan contradicted at the lost level (VdtLocalizer3Options::lost), not from 2D's absolute level;
+/// a pose in doubt is refused as in 2D, and on doubted scans 1, 2, 4, 8, then every 16th the
+/// global search runs, its pose adopted when it explains 0.2 more of the scan than the track (a
+/// generated room's robot carried 5 m: found on the first scan after, where the window alone
+/// reported it lost 6 scans after); and every scan enters the window (a voxelized 3D scan keeps
+/// hundreds of readings).
 
 #include <memory>
 

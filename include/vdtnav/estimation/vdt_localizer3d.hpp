@@ -17,10 +17,11 @@
 ///    refused (status kRefused) and the prediction kept.
 /// 3. Lost detection and recovery wrap this tracker as they wrap a 2D one
 ///    (recovering_localizer3d.hpp, RecoveringLocalizerT<3>): the window test of lost_detection.hpp
-///    reports kLost, every reading the map does not explain counting as a contradiction (no
-///    unknown space in a 3D map here): lost when a window explains half its readings or less,
-///    found again from 70 %; while lost, the attitude grid re-acquires on lost scans 1, 2, 4, 8
-///    and then every 16th (each costs ~0.5-1 s). make_vdt_localizer3() builds the two together.
+///    reports kLost, a reading the map does not explain contradicting the pose only when its beam
+///    passed through a surface of the map (scan_agreement.hpp; a 3D map knows surfaces, not free
+///    space): lost when half the readings a window judges contradict; while lost, the attitude
+///    grid re-acquires on lost scans 1, 2, 4, 8 and then every 16th (each costs ~0.5-1 s), and
+///    global localization after it. make_vdt_localizer3() builds the two together.
 ///
 /// 4-DOF mode: roll and pitch are held at the IMU's (or, without one, at the prediction's: from
 /// the start pose on), so their error goes into x, y, z and yaw through the scan. With a σ for the
@@ -99,8 +100,20 @@ struct VdtLocalizer3Options {
     o.attitude_grid = 2;
     return o;
   }();
-  /// Lost detection (recovering_localizer3d.hpp; the tracker alone does not use it).
-  LostDetectionOptions lost;
+  /// Lost detection (recovering_localizer3d.hpp; the tracker alone does not use it). In doubt only
+  /// by the rise above the track's own windows (doubt_rise, sigmas), not at 2D's absolute 0.3: on
+  /// an outdoor point-cloud map right poses are contradicted by up to 0.39 (MulRan Riverside, the
+  /// map from the odd keyframes), on an exact room map by nothing.
+  /// A scan alone contradicted at the lost level is in doubt too (scan_doubt_contradiction):
+  /// the track's jump onto a wrong pose shows on its first scan (a generated room's: 0.52, its
+  /// right poses' 0.0005; Riverside's right poses at most 0.39, where the map lacks the place
+  /// 0.56-0.90 and the tracker refuses them anyway).
+  LostDetectionOptions lost = [] {
+    LostDetectionOptions o;
+    o.doubt_contradiction = o.lost_contradiction;
+    o.scan_doubt_contradiction = o.lost_contradiction;
+    return o;
+  }();
   /// Recovery (recovering_localizer3d.hpp): while lost, the re-acquiring scans also run global
   /// localization over the whole map (`global`, refined with `optimizer`), and a pose it accepts
   /// is adopted; false: only the attitude grid around the prediction.
