@@ -274,6 +274,7 @@ void run_localize(const LocalizeArgs& a) {
   std::vector<Pose2> estimate;
   std::vector<LaserScan> scans;
   std::vector<double> scan_ms;  // each update's wall time: the summary's mean, median, p99, max
+  std::vector<double> scan_iterations;  // each update's solver iterations (issue 57's counter)
   std::size_t with_cov = 0, processed = 0;
   std::unique_ptr<Localizer2D> loc;
   const auto wall0 = std::chrono::steady_clock::now();
@@ -290,6 +291,7 @@ void run_localize(const LocalizeArgs& a) {
       const double ms =
           std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
       scan_ms.push_back(ms);
+      scan_iterations.push_back(static_cast<double>(r.iterations));
       ++processed;
       ++status_count[r.status];
       PoseRow& row = rows[k];
@@ -359,6 +361,11 @@ void run_localize(const LocalizeArgs& a) {
       "%s: %zu scans processed in %.3f s wall (%.3f ms per scan mean, %.3f median, %.3f p99, "
       "%.3f max)\n",
       a.method.c_str(), processed, wall, ms.mean, ms.median, ms.p99, ms.max);
+  if (!scan_iterations.empty()) {
+    const eval::ErrorStatistics it = eval::error_statistics(scan_iterations);
+    std::printf("  iterations per scan (every solve of the update): median %.0f, p99 %.0f\n",
+                it.median, it.p99);
+  }
   if (first > 0) std::printf("  %-22s %zu\n", "refused (--init global)", first);
   if (!started) std::printf("  %-22s %zu\n", "not tried", n_scans - first);
   for (const auto& [s, n] : status_count) std::printf("  %-22s %d\n", to_string(s), n);

@@ -433,6 +433,7 @@ void run_localize3d(const Localize3dArgs& a) {
   std::size_t count = 0;
   bool said_level = false;      // --init global without an IMU: said once
   std::vector<double> scan_ms;  // each scan's reading and solve: the summary's median, p99, max
+  std::vector<double> scan_iterations;  // each scan's solver iterations (issue 57's counter)
   // One scan: solved from --init (or the prediction) until one is accepted, then tracked with the
   // motion given (odometry, and roll and pitch from an IMU) or constant velocity.
   const auto handle = [&](const std::string& name, double t, const ObservationSet3& obs,
@@ -529,6 +530,7 @@ void run_localize3d(const Localize3dArgs& a) {
     r.read_ms = read_ms;
     r.solve_ms = std::chrono::duration<double, std::milli>(t2 - t1).count();
     scan_ms.push_back(read_ms + r.solve_ms);
+    scan_iterations.push_back(static_cast<double>(r.result.iterations));
     if (r.result.status == LocalizationStatus::kConverged) {
       before_last = accepted == 0 ? r.result.pose : last;
       before_last_t = accepted == 0 ? t : last_t;
@@ -684,6 +686,11 @@ void run_localize3d(const Localize3dArgs& a) {
                  "[localize3d] ms per scan (reading the cloud and solving): %.3f mean, %.3f "
                  "median, %.3f p99, %.3f max\n",
                  ms.mean, ms.median, ms.p99, ms.max);
+    const eval::ErrorStatistics it = eval::error_statistics(scan_iterations);
+    std::fprintf(stderr,
+                 "[localize3d] iterations per scan (every solve, coarse levels and multi-start "
+                 "included): median %.0f, p99 %.0f\n",
+                 it.median, it.p99);
   }
   if (accepted == 0 && init_global) {
     throw NotLocalized("localize3d: --init global: no scan of " + std::to_string(count) +
