@@ -208,6 +208,7 @@ detail::ScanLmSummary run_solver(const VdtSensorModelT<Dim>& model, const Observ
     ls.parameter_tolerance = setup.parameter_tolerance;
     ls.step_sigma = setup.step_sigma;
     ls.newton = setup.newton;
+    ls.floor_min = setup.newton_floor;
     // sigma of (C); a floor of 1 mm for a noiseless reading on an exact map.
     ls.sigma = std::sqrt(std::max(disparity_variance(model, scan), 1e-6));
     ls.held_mask = (Dim == 3 && setup.four_dof) ? (1u << 3 | 1u << 4) : 0u;  // see is_free()

@@ -86,6 +86,7 @@ struct SolveSetup {
   double parameter_tolerance = 1e-6;  // relative: ~10 micrometres at 10 m from the origin
   double step_sigma = 0.01;           // the convergence test (C) (scan_lm.hpp), in sigmas
   bool newton = true;                 // the dense solver's curvature (N) (scan_lm.hpp)
+  double newton_floor = 0.25;         // the lowest floor of (K) (scan_lm.hpp)
 };
 
 /// The a priori variance of one disparity component, metres^2: the map's floor plus the

@@ -64,6 +64,9 @@ void VdtOptimizerT<Dim>::validate_and_default() {
   VDTNAV_CHECK(std::isfinite(options.coarse_threshold), "optimizer: coarse_threshold not finite");
   // Per-dimension defaults (see VdtOptimizerOptions).
   if (options_.pyramid_levels < 0) options_.pyramid_levels = Dim == 2 ? 2 : 3;
+  if (options_.newton_floor < 0.0) options_.newton_floor = Dim == 2 ? 0.25 : 1.0 / 64.0;
+  VDTNAV_CHECK(options_.newton_floor > 0.0 && options_.newton_floor <= 0.25,
+               "optimizer: newton_floor must be in (0, 0.25] (< 0: the default)");
   if (options_.coarse_threshold < 0.0) options_.coarse_threshold = Dim == 2 ? 0.1 : 0.0;
   if constexpr (Dim == 2) options_.four_dof = false;  // a 3D option
 }
@@ -145,6 +148,7 @@ typename VdtOptimizerT<Dim>::Result VdtOptimizerT<Dim>::solve_with(const Observa
                    options_.four_dof, options_.function_tolerance};
   setup.step_sigma = options_.step_sigma;
   setup.newton = options_.newton;
+  setup.newton_floor = options_.newton_floor;
   // IRLS passes per level of the coarse alignment: in 3D one pass per level already lands in the
   // basin of the fine solve, and each pass is a full solve over thousands of 3D lookups.
   constexpr int kIrlsPasses = Dim == 2 ? 3 : 1;
