@@ -109,6 +109,12 @@ if [ -d "$data" ]; then
         --out "$out/lidar_3d_real_car"
     fi
   fi
+  rs="$data/3d/mulran-riverside02"
+  if [ -f "$rs/odom_poses.txt" ] && [ -x "$bin/lidar_3d/vdtnav_lidar_3d" ]; then
+    step "[20/22] The 3D LiDAR study on MulRan Riverside (a car's Ouster, 245 m): the odd keyframes at their SLAM poses make the map, the even ones are tracked from FAST-LIO2's odometry (~4 min)"
+    "$bin/lidar_3d/vdtnav_lidar_3d" --scans "$rs/Scans" --poses "$rs/optimized_poses.txt" \
+      --odom "$rs/odom_poses.txt" --global-trials 0 --out "$out/lidar_3d_riverside"
+  fi
   if [ -d "$data/rosbags" ] && [ -x "$bin/ros_bags/vdtnav_ros_bags" ]; then
     step "[21/22] ROS bags: a TurtleBot 4's ROS 2 bag and a Pioneer's ROS 1 bag localized on their maps from no prior"
     "$bin/ros_bags/vdtnav_ros_bags" --data "$data" --out "$out/ros_bags"

@@ -76,9 +76,12 @@ build/release/tests/studies/vdtnav_check_studies tests/studies/expected.yaml "$s
 
 echo "== [5/5] Benchmarks, smoke mode (one short run each; numbers are not meaningful here)"
 # BM_LocalizeIntelCeres is left out here: a whole Intel run (~50 s) like BM_LocalizeIntel, with
-# Ceres instead of the dense solver that the small Ceres benchmarks already run.
+# Ceres instead of the dense solver that the small Ceres benchmarks already run; and
+# BM_Localize3DSequence: the Riverside map (~40 s, 1 GB) and its 30 scans, which the main job's
+# 3D study above already runs.
 for b in build/release/bench/bench_*; do
   [ -x "$b" ] || continue
-  "$b" --benchmark_min_time=0.01 --benchmark_format=console --benchmark_filter=-BM_LocalizeIntelCeres
+  "$b" --benchmark_min_time=0.01 --benchmark_format=console \
+    --benchmark_filter='-(BM_LocalizeIntelCeres|BM_Localize3DSequence)'
 done
 echo "== all tests passed"

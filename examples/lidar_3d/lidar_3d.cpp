@@ -22,7 +22,8 @@
 // Then global localization (GlobalLocalizer3) from one scan at --global-trials poses drawn over
 // the map (global_trials.cpp): global.csv, global_trials.csv.
 // Writes to --out: table.csv (method,scans,pos_rmse_m,att_rmse_rad,anees,anees_lo,anees_hi,
-// lost_pct,ms_per_scan,anees_left_out,ms_median,ms_p99,ms_max,nees_inside_95_pct), table.md,
+// lost_pct,ms_per_scan,anees_left_out,ms_median,ms_p99,ms_max,nees_inside_95_pct,converged_pct,
+// iterations_median,iterations_p99), table.md,
 // trajectory.png (top view), errors.png (errors with +-2 sigma).
 // With --scans DIR --poses FILE (KITTI or TUM, as `vdtnav map3d --scans` reads them) it runs on a
 // real sequence instead (real_scans.cpp): the odd scans make the map, the even ones are localized

@@ -63,8 +63,9 @@ struct Run {
   std::vector<vdtnav::Matrix6d> covariances;
   std::vector<double> nees;
   std::vector<int> nees_dof;
-  int lost = 0, refused = 0;
+  int lost = 0, refused = 0, converged = 0;
   long iterations = 0;
+  std::vector<double> scan_iterations;  ///< each update's solver evaluations: median and p99
   double seconds = 0.0;
   std::vector<double> scan_ms;  ///< each update's wall time: the table's median, p99 and max
 

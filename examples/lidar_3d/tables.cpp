@@ -25,16 +25,20 @@ void Run::record(const LocalizationResult3& r, const Pose3& truth, double update
   nees_dof.push_back(dof);
   lost += r.status == LocalizationStatus::kLost;
   iterations += r.iterations;
+  scan_iterations.push_back(r.iterations);
+  converged += r.status == LocalizationStatus::kConverged;
   refused += r.status == LocalizationStatus::kRefused;
 }
 
 void write_rows(std::ostream& csv, std::ostream& md, const std::vector<Pose3>& truth,
                 const Run* runs, std::size_t count_runs) {
   csv << "method,scans,pos_rmse_m,att_rmse_rad,anees,anees_lo,anees_hi,lost_pct,ms_per_scan,"
-         "anees_left_out,ms_median,ms_p99,ms_max,nees_inside_95_pct\n";
+         "anees_left_out,ms_median,ms_p99,ms_max,nees_inside_95_pct,converged_pct,"
+         "iterations_median,iterations_p99\n";
   md << "| method | scans | position RMSE (m) | attitude RMSE (rad) | ANEES | 95 % interval | "
-        "NEES ≤ χ²(95 %) (%) | lost % | ms per scan: mean, median, p99 (max) |\n"
-        "|---|---|---|---|---|---|---|---|---|\n";
+        "NEES ≤ χ²(95 %) (%) | lost % | converged % | iterations per scan: median, p99 | ms per "
+        "scan: mean, median, p99 (max) |\n"
+        "|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (std::size_t m = 0; m < count_runs; ++m) {
     const Run& r = runs[m];
     const std::size_t count = r.estimates.size();  // the rebuilt rows: the first scans
@@ -49,29 +53,32 @@ void write_rows(std::ostream& csv, std::ostream& md, const std::vector<Pose3>& t
     const double lost_pct = 100.0 * r.lost / n;
     const double ms = 1e3 * r.seconds / n;
     const eval::ErrorStatistics per_scan = eval::error_statistics(r.scan_ms);
+    const eval::ErrorStatistics its = eval::error_statistics(r.scan_iterations);
+    const double converged_pct = 100.0 * r.converged / n;
     char line[512];
-    std::snprintf(line, sizeof line,
-                  "%s,%zu,%.4f,%.5f,%.3f,%.3f,%.3f,%.1f,%.2f,%zu,%.3f,%.3f,%.3f,%.1f\n",
-                  r.name.c_str(), count, std::sqrt(se_p / n), std::sqrt(se_a / n), a.anees,
-                  a.interval.lower, a.interval.upper, lost_pct, ms, count - a.count,
-                  per_scan.median, per_scan.p99, per_scan.max, a.inside_95_pct);
+    std::snprintf(
+        line, sizeof line,
+        "%s,%zu,%.4f,%.5f,%.3f,%.3f,%.3f,%.1f,%.2f,%zu,%.3f,%.3f,%.3f,%.1f,%.1f,%.0f,%.0f\n",
+        r.name.c_str(), count, std::sqrt(se_p / n), std::sqrt(se_a / n), a.anees, a.interval.lower,
+        a.interval.upper, lost_pct, ms, count - a.count, per_scan.median, per_scan.p99,
+        per_scan.max, a.inside_95_pct, converged_pct, its.median, its.p99);
     const std::string note = eval::left_out_note(a, count);
     csv << line;
     std::snprintf(line, sizeof line,
-                  "| %s | %zu | %.4f | %.5f | %.2f%s | [%.2f, %.2f] | %.1f | %.1f | %.2f, %.2f, "
-                  "%.2f (%.2f) |\n",
+                  "| %s | %zu | %.4f | %.5f | %.2f%s | [%.2f, %.2f] | %.1f | %.1f | %.1f | %.0f, "
+                  "%.0f | %.2f, %.2f, %.2f (%.2f) |\n",
                   r.name.c_str(), count, std::sqrt(se_p / n), std::sqrt(se_a / n), a.anees,
                   note.empty() ? "" : (" (" + note + ")").c_str(), a.interval.lower,
-                  a.interval.upper, a.inside_95_pct, lost_pct, ms, per_scan.median, per_scan.p99,
-                  per_scan.max);
+                  a.interval.upper, a.inside_95_pct, lost_pct, converged_pct, its.median, its.p99,
+                  ms, per_scan.median, per_scan.p99, per_scan.max);
     md << line;
     std::printf(
         "%s: position RMSE %.4f m, attitude RMSE %.5f rad, ANEES %.2f in [%.2f, %.2f] "
-        "(%d dof), lost %.1f %%, refused %d, %.2f ms (median %.2f, p99 %.2f, max %.2f) and %.1f "
-        "iterations per scan\n",
+        "(%d dof), lost %.1f %%, refused %d, converged %.1f %%, %.2f ms (median %.2f, p99 %.2f, "
+        "max %.2f) and %.1f iterations per scan (median %.0f, p99 %.0f)\n",
         r.name.c_str(), std::sqrt(se_p / n), std::sqrt(se_a / n), a.anees, a.interval.lower,
-        a.interval.upper, dof, lost_pct, r.refused, ms, per_scan.median, per_scan.p99, per_scan.max,
-        static_cast<double>(r.iterations) / n);
+        a.interval.upper, dof, lost_pct, r.refused, converged_pct, ms, per_scan.median,
+        per_scan.p99, per_scan.max, static_cast<double>(r.iterations) / n, its.median, its.p99);
   }
 }
 
