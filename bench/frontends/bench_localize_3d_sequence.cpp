@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "vdtnav/core/error.hpp"
+#include "vdtnav/core/pose3.hpp"
 #include "vdtnav/estimation/localizer_factory.hpp"
 #include "vdtnav/estimation/recovering_localizer3d.hpp"
 #include "vdtnav/eval/trajectory_metrics.hpp"
@@ -131,9 +132,7 @@ void BM_Localize3DSequence(benchmark::State& state) {
       refused += r.status == LocalizationStatus::kRefused;
       lost += r.status == LocalizationStatus::kLost;
       const double e = (r.pose.translation() - s.reference[i].translation()).norm();
-      const double a =
-          Eigen::AngleAxisd(r.pose.linear().transpose() * s.reference[i].linear()).angle() * 180.0 /
-          M_PI;
+      const double a = attitude_error(r.pose, s.reference[i]) * 180.0 / M_PI;  // degrees
       se += e * e;
       att_max = std::max(att_max, a);
       within += e <= 0.10 && a <= 1.0;
