@@ -50,7 +50,8 @@
 ///   |delta_N|_sigma^2 = g^T H^-1 g / sigma^2 <= step_sigma^2                                 (C)
 /// i.e. the gradient small in the information metric, the remaining step far below one sigma
 /// (0.01 by default). A solve stops as soon as (C) holds (converged), or at the iteration limit,
-/// or when no step decreases the cost, or at Ceres's parameter tolerance (a step of ~10 um);
+/// or when no step decreases the cost, or at Ceres's parameter tolerance (a step of ~10 um) where
+/// the damping is not what made the step that short;
 /// whatever stopped it, `converged` says whether (C) holds where it stopped (or Newton's step
 /// itself is below the parameter tolerance: the minimum as far as the arithmetic resolves it).
 
@@ -340,12 +341,19 @@ ScanLmSummary solve_scan_lm(const VdtSensorModelT<Dim>& model, const Observation
     // Ceres's parameter tolerance on the step (x is kept): a step of micrometres. Where that is
     // Newton's own step (the damping negligible) the pose is at the minimum as far as the
     // arithmetic resolves it, though (C) may ask for less on a cloud of thousands of readings.
+    // Where the damping alone made it that short (rejected steps shrank the radius), the solve
+    // has not stopped at a minimum: the radius grows tenfold and the solve goes on (an
+    // iteration, so the limit still ends it), up to Ceres's largest radius.
     const double tiny =
         settings.parameter_tolerance * (norm_of(*pose) + settings.parameter_tolerance);
     if (delta.norm() <= tiny) {
       const Eigen::LLT<Normal> newton(hs);
       at_resolution = newton.info() == Eigen::Success && newton.solve(g).norm() <= 2.0 * tiny;
-      break;
+      if (at_resolution || mu >= 1e16) break;
+      ++summary.iterations;
+      mu = std::min(10.0 * mu, 1e16);
+      nu = 2.0;
+      continue;
     }
     ++summary.iterations;
     const double model_decrease = -(g.dot(delta) + 0.5 * delta.dot(hs * delta));
