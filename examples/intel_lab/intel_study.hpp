@@ -44,8 +44,12 @@ struct Row {
   double iterations_median = 0.0, iterations_p99 = 0.0;
   double converged_pct = 0.0;          ///< scans reported converged
   double correct_converged_pct = 0.0;  ///< of the scans within 0.1 m of the corrected pose
-  /// The relations on the poses a default pose file keeps (status converged only).
+  /// The relations on the converged poses alone.
   eval::RelationMetricResult rel_converged;
+  double published_pct = 0.0;          ///< scans the default outputs hold (converged, bridged)
+  double correct_published_pct = 0.0;  ///< of the scans within 0.1 m of the corrected pose
+  /// The relations on the poses a default pose file keeps (published_by_default()).
+  eval::RelationMetricResult rel_published;
   std::vector<Pose2> poses;
   std::vector<Eigen::Matrix3d> cov;
 };

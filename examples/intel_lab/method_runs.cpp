@@ -36,8 +36,9 @@ Row localize_method(const std::string& method, const VdtMap2& vdt, const mapping
   std::vector<Eigen::Matrix3d> est_cov;  // NaN where the scan has no covariance
   std::vector<double> scan_ms;
   std::vector<double> tracked_iterations;
-  eval::Trajectory2 converged_est;
-  std::size_t converged = 0, correct = 0, correct_converged = 0;
+  eval::Trajectory2 converged_est, published_est;
+  std::size_t converged = 0, correct = 0, correct_converged = 0, published = 0,
+              correct_published = 0;
   const auto w0 = Clock::now();
   for (std::size_t k = 0; k < split; ++k) {
     LaserScan scan = logs.raw.lasers[k].scan;
@@ -61,6 +62,10 @@ Row localize_method(const std::string& method, const VdtMap2& vdt, const mapping
     correct += is_correct;
     correct_converged += is_correct && is_converged;
     if (is_converged) converged_est.push_back({times[k], res.pose});
+    const bool is_published = published_by_default(res.status);
+    published += is_published;
+    correct_published += is_correct && is_published;
+    if (is_published) published_est.push_back({times[k], res.pose});
     if (res.work.window_searches == 0 && res.work.coarse_to_fine == 0)
       tracked_iterations.push_back(res.iterations);
     if (res.status == LocalizationStatus::kLost) ++r.flagged_lost;
@@ -82,6 +87,11 @@ Row localize_method(const std::string& method, const VdtMap2& vdt, const mapping
                   : 0.0;
   r.rel = eval::relation_metric(est, relations, ro);
   r.rel_converged = eval::relation_metric(converged_est, relations, ro);
+  r.published_pct = 100.0 * static_cast<double>(published) / static_cast<double>(split);
+  r.correct_published_pct =
+      correct > 0 ? 100.0 * static_cast<double>(correct_published) / static_cast<double>(correct)
+                  : 0.0;
+  r.rel_published = eval::relation_metric(published_est, relations, ro);
   r.ate = eval::absolute_trajectory_error(est, reference);
   r.rpe = eval::relative_pose_error(est, reference);
   if (r.has_cov) {
@@ -94,12 +104,14 @@ Row localize_method(const std::string& method, const VdtMap2& vdt, const mapping
   std::printf(
       "[intel] %-8s relations %zu: %.4f m / %.3f deg, ATE %.4f m, %zu scans off by > 0.5 m, "
       "%zu flagged lost, %.3f ms per scan (median %.3f, p99 %.1f, max %.1f), %.3f s wall; "
-      "%.1f %% converged (%.1f %% of the scans within 0.1 m), tracked-scan iterations median %.0f "
-      "p99 %.0f\n",
+      "%.1f %% converged (%.1f %% of the scans within 0.1 m), %.1f %% published (%.1f %%), "
+      "tracked-scan iterations median %.0f p99 %.0f; default output: relations %zu, %.4f m / "
+      "%.3f deg\n",
       method.c_str(), r.rel.used, r.rel.translation.mean, r.rel.rotation.mean * kRadToDeg,
       r.ate.unaligned_translation.rmse, r.lost, r.flagged_lost, r.ms.mean, r.ms.median, r.ms.p99,
-      r.ms.max, r.wall_s, r.converged_pct, r.correct_converged_pct, r.iterations_median,
-      r.iterations_p99);
+      r.ms.max, r.wall_s, r.converged_pct, r.correct_converged_pct, r.published_pct,
+      r.correct_published_pct, r.iterations_median, r.iterations_p99, r.rel_published.used,
+      r.rel_published.translation.mean, r.rel_published.rotation.mean * kRadToDeg);
   return r;
 }
 

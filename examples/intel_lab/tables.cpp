@@ -16,7 +16,9 @@ void write_tables(std::ostream& csv, std::ostream& md, const std::vector<Row>& r
          "ms_max,wall_s,rel_nees_used,rel_nees_skipped_no_cov,rel_nees_mean,rel_nees_median,"
          "rel_nees_inside_7.81,flagged_lost,cpu_ms_max,anees_left_out,ms_median,ms_p99,"
          "iterations_median,iterations_p99,converged_pct,correct_converged_pct,"
-         "relations_converged,rel_trans_converged_m,rel_rot_converged_deg\n";
+         "relations_converged,rel_trans_converged_m,rel_rot_converged_deg,published_pct,"
+         "correct_published_pct,relations_published,rel_trans_published_m,"
+         "rel_rot_published_deg\n";
   md << "Intel Research Lab: map from scans " << split << ".." << n - 1
      << " (corrected poses), localization of scans 0.." << split - 1
      << " with raw odometry. Relations: both ends localized scans (exact stamps).\n\n"
@@ -31,7 +33,7 @@ void write_tables(std::ostream& csv, std::ostream& md, const std::vector<Row>& r
         b, sizeof b,
         "%s,%zu,%.6f,%.6f,%.4f,%.4f,%.8f,%.6f,%.6f,%.6f,%.4f,%.6f,%.4f,%zu,%zu,%d,%.4f,"
         "%.4f,%.4f,%.4f,%.4f,%.4f,%zu,%zu,%.4f,%.4f,%.4f,%zu,%.3f,%zu,%.4f,%.4f,%.0f,%.0f,"
-        "%.2f,%.2f,%zu,%.6f,%.4f\n",
+        "%.2f,%.2f,%zu,%.6f,%.4f,%.2f,%.2f,%zu,%.6f,%.4f\n",
         r.method.c_str(), r.rel.used, r.rel.translation.mean, r.rel.translation.std,
         r.rel.rotation.mean * kRadToDeg, r.rel.rotation.std * kRadToDeg,
         r.rel.translation_squared.mean, r.rel.rotation_squared.mean * kRadToDeg * kRadToDeg,
@@ -44,7 +46,9 @@ void write_tables(std::ostream& csv, std::ostream& md, const std::vector<Row>& r
         r.rel_nees.median, r.rel_nees.fraction_inside, r.flagged_lost, r.cpu_ms_max,
         r.has_cov ? r.scans - r.anees.count : 0, r.ms.median, r.ms.p99, r.iterations_median,
         r.iterations_p99, r.converged_pct, r.correct_converged_pct, r.rel_converged.used,
-        r.rel_converged.translation.mean, r.rel_converged.rotation.mean * kRadToDeg);
+        r.rel_converged.translation.mean, r.rel_converged.rotation.mean * kRadToDeg,
+        r.published_pct, r.correct_published_pct, r.rel_published.used,
+        r.rel_published.translation.mean, r.rel_published.rotation.mean * kRadToDeg);
     csv << b;
     std::string anees = r.has_cov ? "" : "—";
     if (r.has_cov) {

@@ -60,10 +60,14 @@ void bind_result(py::module_& m, const char* name, const char* doc) {
                      "in the world frame; NaN rows for held components")
       .def_property_readonly(
           "status", [](const R& r) { return status_token(r.status); },
-          "converged, not_converged, too_few_observations, diverged, refused "
-          "or lost")
+          "converged, not_converged, too_few_observations, diverged, refused, "
+          "lost or bridged")
       .def_property_readonly("converged",
                              [](const R& r) { return r.status == LocalizationStatus::kConverged; })
+      .def_property_readonly(
+          "published", [](const R& r) { return published_by_default(r.status); },
+          "whether the CLI's default TUM file and the ROS node hold this pose "
+          "(converged or bridged)")
       .def_readonly("has_covariance", &R::has_covariance)
       .def_readonly("iterations", &R::iterations, "solver iterations of the whole update")
       .def_readonly("explained", &R::explained,

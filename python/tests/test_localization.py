@@ -12,7 +12,8 @@ from conftest import INTEL_LOG, cpp_reference, room_occupancy
 
 N_SCANS = 40
 # LocalizationStatus in its C++ order (cpp_reference prints the enum's value).
-STATUS = ["converged", "not_converged", "too_few_observations", "diverged", "refused", "lost"]
+STATUS = ["converged", "not_converged", "too_few_observations", "diverged", "refused", "lost",
+          "bridged"]
 
 
 def python_run(map_yaml, method, n=N_SCANS, settings=None):

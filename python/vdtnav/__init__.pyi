@@ -31,7 +31,8 @@ _Occupancy: TypeAlias = npt.NDArray[np.bool_] | npt.NDArray[np.uint8]
 # settings file's sections and keys, or the path of a YAML settings file.
 _SettingsLike: TypeAlias = Settings | dict[str, Any] | str | os.PathLike[str] | None
 _Status: TypeAlias = Literal[
-    "converged", "not_converged", "too_few_observations", "diverged", "refused", "lost"
+    "converged", "not_converged", "too_few_observations", "diverged", "refused", "lost",
+    "bridged",
 ]
 
 class _Frame(TypedDict):
@@ -246,10 +247,14 @@ class LocalizationResult:
         """3 x 3 covariance of (x, y, phi)."""
     @property
     def status(self) -> _Status:
-        """converged, not_converged, too_few_observations, diverged, refused or lost."""
+        """converged, not_converged, too_few_observations, diverged, refused, lost or bridged."""
     @property
     def converged(self) -> bool:
         """status == 'converged'."""
+    @property
+    def published(self) -> bool:
+        """Whether the CLI's default TUM file and the ROS node hold this pose (converged or
+        bridged)."""
     @property
     def has_covariance(self) -> bool:
         """False for estimators that report none."""
@@ -285,10 +290,14 @@ class LocalizationResult3:
         for held components."""
     @property
     def status(self) -> _Status:
-        """converged, not_converged, too_few_observations, diverged, refused or lost."""
+        """converged, not_converged, too_few_observations, diverged, refused, lost or bridged."""
     @property
     def converged(self) -> bool:
         """status == 'converged'."""
+    @property
+    def published(self) -> bool:
+        """Whether the CLI's default TUM file and the ROS node hold this pose (converged or
+        bridged)."""
     @property
     def has_covariance(self) -> bool:
         """False for estimators that report none."""

@@ -50,7 +50,11 @@ typename RecoveringLocalizerT<Dim>::Result RecoveringLocalizerT<Dim>::update(
   agreement_ = reacquisition_->weigh(observations, r);
   if (!options_.detect) return r;
   const bool informative = static_cast<int>(observations.size()) >= options_.min_readings;
-  if (informative) detector_.update(reacquisition_->judge(observations, r, agreement_));
+  ScanAgreement judged;
+  if (informative) {
+    judged = reacquisition_->judge(observations, r, agreement_);
+    detector_.update(judged);
+  }
   lost_scans_ = detector_.lost() ? lost_scans_ + 1 : 0;
   // Wrong, or possibly: lost, in doubt, or judged by nothing for a window's length (a track
   // that wandered where the map knows nothing is never contradicted).
@@ -75,11 +79,24 @@ typename RecoveringLocalizerT<Dim>::Result RecoveringLocalizerT<Dim>::update(
       return out;
     }
   }
+  // Statuses (docs/localization-2d.md): lost by the window; a converged pose in doubt is refused,
+  // not a localization on the map (where doubt_refuses()); a bridged pose (the map does not
+  // explain the scan) is refused when in doubt or when the map contradicts the scan itself at the
+  // doubt level: a kidnapped robot's first scans bridge to the old place and put their beams
+  // through its walls, a gap of the map does not.
+  const LostDetectionOptions& lo = detector_.options();
+  const bool scan_contradicted = judged.judged() > 0 &&
+                                 judged.judged() >= lo.min_judged * judged.readings &&
+                                 judged.contradiction() >= lo.doubt_contradiction;
   if (detector_.lost()) {
     r.status = LocalizationStatus::kLost;
-  } else if (detector_.in_doubt() && r.status == LocalizationStatus::kConverged &&
+  } else if (r.status == LocalizationStatus::kConverged && detector_.in_doubt() &&
              reacquisition_->doubt_refuses()) {
-    r.status = LocalizationStatus::kRefused;  // in doubt: not a localization on the map
+    r.status = LocalizationStatus::kRefused;
+  } else if (r.status == LocalizationStatus::kBridged &&
+             (detector_.in_doubt() || scan_contradicted)) {
+    r.status = LocalizationStatus::kRefused;
+    r.has_covariance = false;
   }
   return r;
 }

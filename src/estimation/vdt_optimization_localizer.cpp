@@ -117,6 +117,12 @@ LocalizationResult VdtOptimizationLocalizer::update(const OdometryStep& odometry
       // Scan matching drifts far less than dead reckoning: a fraction of the odometry's growth.
       const double f = optimizer_.options().bridge.uncertainty_growth;
       uncertainty_ = previous_uncertainty + f * (uncertainty_ - previous_uncertainty);
+      // A pose across the gap, with the uncertainty it carries (issue 57: a correct pose is not
+      // withheld from the default outputs). Where the map contradicts it, the lost watch refuses
+      // it (recovering_localizer.hpp).
+      r.status = LocalizationStatus::kBridged;
+      r.covariance = uncertainty_;
+      r.has_covariance = true;
     }
   }
   local_.add(pts, pose_);

@@ -52,7 +52,8 @@ struct LocalizeArgs {
   bool strict = false;
   bool recover = false, no_recover = false;
   bool all_poses = false;
-  std::string accept_status = "converged";
+  // published_by_default(): the localizations on the map and the bridges across its gaps.
+  std::string accept_status = "converged,bridged";
   // --bag: which topics and frames (vdtnav/ros/scan_sequence.hpp)
   std::string scan_topic, odom_topic, odom_frame = "odom", base_frame = "base_link", laser_pose;
   int threads = -1;  // --threads; -1: the settings' threads:

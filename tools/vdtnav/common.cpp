@@ -86,7 +86,8 @@ constexpr LocalizationStatus kAllStatuses[] = {LocalizationStatus::kConverged,
                                                LocalizationStatus::kTooFewObservations,
                                                LocalizationStatus::kDiverged,
                                                LocalizationStatus::kRefused,
-                                               LocalizationStatus::kLost};
+                                               LocalizationStatus::kLost,
+                                               LocalizationStatus::kBridged};
 
 /// "converged, not_converged, ..., lost": the names parse_statuses() takes.
 std::string status_names() {

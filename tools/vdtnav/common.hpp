@@ -93,8 +93,9 @@ double apply_no_return_code(CarmenLog& log, const char* tag);
 [[nodiscard]] std::set<LocalizationStatus> parse_statuses(const std::string& text,
                                                           const std::string& what);
 
-/// \brief Adds `--all-poses` and `--accept-status LIST` (default converged) to a subcommand whose
-/// trajectory file is `trajectory` ("--out", "a sequence's trajectory.tum") and pose table `table`.
+/// \brief Adds `--all-poses` and `--accept-status LIST` (the subcommand's default) to a subcommand
+/// whose trajectory file is `trajectory` ("--out", "a sequence's trajectory.tum") and pose table
+/// `table`.
 void add_pose_selection_options(CLI::App& app, bool& all_poses, std::string& accept_status,
                                 const std::string& trajectory, const std::string& table);
 

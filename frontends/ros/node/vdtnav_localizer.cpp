@@ -297,8 +297,9 @@ class LocalizerNode {
     for (const vr::LiveEstimate& e : estimates) {
       const ros::Time stamp = from_ns(e.stamp_ns);
       const bool localized = e.event == vr::LiveEstimate::Event::kLocalized;
-      const bool converged = localized && e.result.status == vdtnav::LocalizationStatus::kConverged;
-      if (converged) publish_pose(stamp, e);
+      // amcl_pose: the poses of the default outputs (converged, or bridged across a gap of the map
+      // with its grown covariance: vdtnav::published_by_default()).
+      if (localized && vdtnav::published_by_default(e.result.status)) publish_pose(stamp, e);
       if (tf_broadcast_ && e.has_map_to_odom &&
           (localized || e.event == vr::LiveEstimate::Event::kSkipped)) {
         geometry_msgs::TransformStamped t;

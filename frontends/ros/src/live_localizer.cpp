@@ -246,7 +246,7 @@ LiveEstimate LiveLocalizer::localize(const LaserScanMsg& msg, const Pose2& odome
   e.event = LiveEstimate::Event::kLocalized;
   last_odometry_ = odometry;
   last_time_ = t;
-  if (e.result.status == LocalizationStatus::kConverged) {
+  if (published_by_default(e.result.status)) {  // converged, or bridged across a gap
     last_pose_ = e.result.pose;
     has_last_pose_ = true;
     // REP 105: map -> odom = (map -> base) (+) (odom -> base)^-1.

@@ -30,6 +30,11 @@ enum class LocalizationStatus {
   /// The recent scans are not explained at the estimates (lost_detection.hpp): the robot is lost
   /// (kidnapped, or a wrong match kept) until a new acquisition; the pose is the tracker's.
   kLost,
+  /// The map does not explain the scan where the robot is (a place the map lacks, a crowd): the
+  /// pose is the scan matched against the recent scans (the local scan map across the gap), with
+  /// its covariance grown from the last fix. Published by default (published_by_default()), unless
+  /// the map contradicts it, which makes it refused.
+  kBridged,
 };
 
 /// \return a short name for a status ("converged", ...).
@@ -47,8 +52,18 @@ enum class LocalizationStatus {
       return "refused";
     case LocalizationStatus::kLost:
       return "lost";
+    case LocalizationStatus::kBridged:
+      return "bridged";
   }
   return "?";
+}
+
+/// \return whether a pose of this status goes to the default outputs (the TUM file of `vdtnav
+/// localize`, the ROS node's amcl_pose and map->odom): a localization on the map (converged) or a
+/// bridge across a gap of it (bridged), each with its covariance. The others are the prediction
+/// or a pose the map contradicts.
+[[nodiscard]] inline bool published_by_default(LocalizationStatus s) {
+  return s == LocalizationStatus::kConverged || s == LocalizationStatus::kBridged;
 }
 
 /// \brief The result of one localization step (aliases LocalizationResult for 2D,
