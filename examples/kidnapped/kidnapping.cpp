@@ -89,7 +89,7 @@ std::vector<Outcome> run(const Drive& drive, Localizer2D& localizer, const Optio
     o.unrecognizable = unrecognizable > 0 && other_refusals == 0;
     // A pose the default outputs hold (converged, or bridged across what looks like a gap of
     // the map: published_by_default()) is accepted, right or wrong.
-    const auto converged = [&](int j) {
+    const auto accepted = [&](int j) {
       return published_by_default(results[static_cast<std::size_t>(j)].status);
     };
     const auto ok = [&](int j) {
@@ -100,15 +100,15 @@ std::vector<Outcome> run(const Drive& drive, Localizer2D& localizer, const Optio
                        truth[static_cast<std::size_t>(j)]);
     };
     for (int j = options.every - 1; j >= 0; --j) {  // back to the last converged-elsewhere scan
-      if (converged(j) && away(j)) break;
-      if (converged(j) && ok(j)) o.scans_to_recover = j;
+      if (accepted(j) && away(j)) break;
+      if (accepted(j) && ok(j)) o.scans_to_recover = j;
     }
     for (int j = 0; j < options.every; ++j) {
       const LocalizationResult& r = results[static_cast<std::size_t>(j)];
-      const bool wrong = converged(j) && away(j);
+      const bool wrong = accepted(j) && away(j);
       if (wrong && j >= options.window) o.wrong_accepted = true;
       if (wrong && j < options.window) ++o.converged_wrong_early;
-      if (o.scans_to_recover >= 0 && j > o.scans_to_recover && converged(j) && !ok(j) && !away(j))
+      if (o.scans_to_recover >= 0 && j > o.scans_to_recover && accepted(j) && !ok(j) && !away(j))
         ++o.converged_off;
       o.lost_scans += r.status == LocalizationStatus::kLost;
       o.global_searches += r.work.global_searches;

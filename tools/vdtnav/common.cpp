@@ -89,7 +89,7 @@ constexpr LocalizationStatus kAllStatuses[] = {LocalizationStatus::kConverged,
                                                LocalizationStatus::kLost,
                                                LocalizationStatus::kBridged};
 
-/// "converged, not_converged, ..., lost": the names parse_statuses() takes.
+/// "converged, not_converged, ..., lost, bridged": the names parse_statuses() takes.
 std::string status_names() {
   std::string names;
   for (LocalizationStatus s : kAllStatuses) names += (names.empty() ? "" : ", ") + status_token(s);
