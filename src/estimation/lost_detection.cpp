@@ -46,7 +46,14 @@ bool LostDetector::update(const ScanAgreement& scan) {
     return lost_;
   }
   const double c = sum_.contradiction();
-  lost_ = lost_ ? c > options_.found_contradiction : c >= options_.lost_contradiction;
+  // A lost track is found again by a window of scans the map judges each, not by one scan that
+  // outweighs the window's unjudged ones (a dead-reckoned track that wanders onto a look-alike
+  // place: one scan explained there is no evidence of where the robot is).
+  const bool each_judged = std::all_of(window_.begin(), window_.end(), [&](const ScanAgreement& a) {
+    return a.judged() > 0 && a.judged() >= options_.min_judged * a.readings;
+  });
+  lost_ =
+      lost_ ? c > options_.found_contradiction || !each_judged : c >= options_.lost_contradiction;
   const bool risen = !std::isnan(baseline_) &&
                      c - baseline_ > std::max(options_.doubt_rise, options_.sigmas * spread());
   const bool scan_contradicted =

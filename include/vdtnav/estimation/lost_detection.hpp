@@ -11,7 +11,8 @@
 /// is kept:
 ///
 ///     lost        <=>  c >= lost_contradiction              (from a decided window)
-///     found again <=>  c <= found_contradiction             (from a decided window)
+///     found again <=>  c <= found_contradiction             (from a decided window whose every
+///                                                          scan the map judges: min_judged each)
 ///     in doubt    <=>  not lost and (c >= doubt_contradiction  or  c_scan >=
 ///     scan_doubt_contradiction
 ///                      or  c - b > max(doubt_rise, sigmas
