@@ -145,7 +145,8 @@ void visit(V& v, VdtOptimizerOptions& o) {
          "solver dense: steps on Newton's curvature (the loss's and the field's); false: IRLS");
   v.number("newton_floor", o.newton_floor, "fraction",
            "solver dense: lowest curvature of a step relative to IRLS, reached while steps fall "
-           "short; 0.25: fixed; < 0: 0.25 in 2D, 1/64 in 3D");
+           "short (within one sigma of the minimum as low as keeps the step inside it, >= 1/64); "
+           "< 0: 0.25 in 2D, 1/64 in 3D");
   v.integer("gate_rounds", o.gate_rounds, "count",
             "re-gate at the solution and solve again while the inliers change");
   v.integer("min_inliers", o.min_inliers, "count", "fewer usable readings: too few observations");

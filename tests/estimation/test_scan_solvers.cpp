@@ -225,6 +225,77 @@ TEST(ScanSolvers, NewtonStepsReachTheMinimumInAFewIterationsAndSayWhenTheyDidNot
   }
 }
 
+TEST(ScanSolvers, NearTheMinimumTheFloorFollowsAFlatCostIn2dAndTheSolveConverges) {
+  // Issue 57: in 2D (K)'s floor stays at 1/4 away from the minimum, and where the cost is far
+  // flatter than the IRLS matrix (most readings beyond the Cauchy loss's scale; the MIT corridor
+  // along its length) each step covered a fraction of the way and (C), measured on the floored
+  // matrix, understated the step left. Within one sigma the floor now follows the steps down as
+  // far as keeps a step inside it (scan_lm.hpp (K)). 100 solves: the 20 tour poses, 5 draws
+  // each, four readings in five pulled 0.1-0.4 m short along their beams (scale 0.05 m), from
+  // 5 cm / 0.02 rad off. The oracle: Newton's step by central finite differences of the
+  // value-only lookups at the returned pose, in sigmas. Measured: 97 converged, of which 63 with
+  // the oracle's step within 0.01 sigma and 81 within 0.05; at the fixed floor 87 converged, 44
+  // and 76 (and 16 with a step over 0.05 sigma: solves ending on a kink of the cost, a reading on
+  // the medial axis between two walls, where central differences measure the kink — at tour pose
+  // 18 a gradient of 0.07 in y and heading, yet the cost falls by 2e-4 of 2.33 along its step).
+  std::mt19937 rng(13);
+  std::uniform_real_distribution<double> shift(0.1, 0.4);
+  int converged = 0, within_001 = 0, within_005 = 0;
+  double evaluations = 0.0;
+  for (std::size_t k = 0; k < 100; ++k) {
+    const Pose2 truth = test::tour_pose(k % 20);
+    LaserScan scan = test::simulate_scan(truth, 0.01, rng);
+    for (std::size_t i = 0; i < scan.ranges.size(); ++i) {
+      if (i % 5 != 0) scan.ranges[i] -= shift(rng);
+    }
+    const ScanPoints pts = scan_points(scan);
+    VdtOptimizerOptions o;
+    o.solver = ScanSolver::kDense;
+    o.loss = RobustLoss::kCauchy;
+    o.loss_scale = 0.05;
+    o.gate_rounds = 1;         // one solve over the readings gated at the guess (the oracle's)
+    o.coarse_threshold = 1e9;  // no coarse alignment before it
+    o.max_iterations = 50;     // the real-log settings' limit
+    const Pose2 guess = truth + Pose2(0.04, -0.03, 0.02);
+    const VdtOptimizer opt(test::world().map, o);
+    const LocalizationResult r = opt.solve(pts, guess);
+    if (r.status != LocalizationStatus::kConverged) continue;
+    ++converged;
+    evaluations += r.iterations;
+    const VdtSensorModel& model = opt.sensor_model();
+    const std::vector<int> beams = gated_at(model, pts, guess);
+    const auto f = [&](const Pose2& x) {
+      return 0.5 * robust_cost(model, pts, beams, o.loss, o.loss_scale, x);
+    };
+    const double e = 1e-4;
+    Eigen::Vector3d g;
+    Eigen::Matrix3d h;
+    for (int a = 0; a < 3; ++a) {
+      const Pose2 da = Pose2::Unit(a) * e;
+      g[a] = (f(r.pose + da) - f(r.pose - da)) / (2 * e);
+      for (int b = 0; b < 3; ++b) {
+        const Pose2 db = Pose2::Unit(b) * e;
+        h(a, b) = (f(r.pose + da + db) - f(r.pose + da - db) - f(r.pose - da + db) +
+                   f(r.pose - da - db)) /
+                  (4 * e * e);
+      }
+    }
+    const double sigma2 = model.map_sigma() * model.map_sigma() + 0.01 * 0.01 / 2;
+    const Eigen::LLT<Eigen::Matrix3d> llt(0.5 * (h + h.transpose()));
+    if (llt.info() != Eigen::Success) continue;  // not a minimum by the oracle: counted as over
+    const double sigmas = std::sqrt(g.dot(llt.solve(g)) / sigma2);
+    within_001 += sigmas <= 0.01;
+    within_005 += sigmas <= 0.05;
+  }
+  std::printf(
+      "2D, 4 readings in 5 beyond the loss scale: %d of 100 converged (%.1f evaluations "
+      "mean), oracle's Newton step within 0.01 sigma %d, within 0.05 sigma %d\n",
+      converged, evaluations / std::max(converged, 1), within_001, within_005);
+  EXPECT_GE(converged, 95);
+  EXPECT_GE(within_001, 60);
+  EXPECT_GE(within_005, 80);
+}
+
 TEST(ScanSolvers, AFloorThatFollowsAFlatCostReachesAMinimumNoWorseThanTheFixedFloorIn3d) {
   // Issue 57: where most readings lie beyond the Cauchy loss's scale the cost is far flatter than
   // the IRLS matrix (a real 3D scan: 0.002-0.2 of it in every direction), and at (K)'s fixed

@@ -124,7 +124,7 @@ TEST(CliRealLogs, IntelStudyNothingLostAndRecoveryChangesNothing) {
   }
   EXPECT_EQ(load_tum_trajectory((d / "usable.tum").string()).poses.size(), published);
   EXPECT_GT(converged, 400U);  // of 607
-  EXPECT_GT(published, 575U);  // the correct scans but those in doubt (issue 57: 584)
+  EXPECT_GT(published, 575U);  // the correct scans but those in doubt (issue 57: 583)
   ASSERT_EQ(run_cli("eval --traj " + (d / "usable.tum").string() + " --relations " +
                         (data / "intel.relations").string() + " --max-gap 0 --json",
                     d / "eval_usable.txt"),
