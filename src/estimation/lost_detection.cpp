@@ -38,8 +38,11 @@ bool LostDetector::update(const ScanAgreement& scan) {
     window_.pop_front();
   }
   // Only a full window that the map judges enough of decides; otherwise the state is kept.
+  const auto judged_enough = [&](const ScanAgreement& a) {
+    return a.judged() > 0 && a.judged() >= options_.min_judged * a.readings;
+  };
   const bool full = static_cast<int>(window_.size()) >= options_.window;
-  decided_ = full && sum_.judged() > 0 && sum_.judged() >= options_.min_judged * sum_.readings;
+  decided_ = full && judged_enough(sum_);
   unjudged_ = full && !decided_ ? unjudged_ + 1 : 0;
   if (!decided_) {
     doubt_ = false;
@@ -49,11 +52,9 @@ bool LostDetector::update(const ScanAgreement& scan) {
   // A lost track is found again by a window of scans the map judges each, not by one scan that
   // outweighs the window's unjudged ones (a dead-reckoned track that wanders onto a look-alike
   // place: one scan explained there is no evidence of where the robot is).
-  const bool each_judged = std::all_of(window_.begin(), window_.end(), [&](const ScanAgreement& a) {
-    return a.judged() > 0 && a.judged() >= options_.min_judged * a.readings;
-  });
-  lost_ =
-      lost_ ? c > options_.found_contradiction || !each_judged : c >= options_.lost_contradiction;
+  lost_ = lost_ ? c > options_.found_contradiction ||
+                      !std::all_of(window_.begin(), window_.end(), judged_enough)
+                : c >= options_.lost_contradiction;
   const bool risen = !std::isnan(baseline_) &&
                      c - baseline_ > std::max(options_.doubt_rise, options_.sigmas * spread());
   const bool scan_contradicted =

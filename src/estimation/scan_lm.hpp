@@ -370,7 +370,6 @@ ScanLmSummary solve_scan_lm(const VdtSensorModelT<Dim>& model, const Observation
       continue;
     }
     ++summary.iterations;
-    const double sigmas_before = sigmas;
     const double model_decrease = -(g.dot(delta) + 0.5 * delta.dot(hs * delta));
     const Pose candidate = Traits::plus(*pose, delta);
     const double new_cost = evaluate(candidate, &h_trial, &t_trial, &g_trial);
@@ -392,8 +391,9 @@ ScanLmSummary solve_scan_lm(const VdtSensorModelT<Dim>& model, const Observation
         // step that overshoots (rho < 3/4) or fails raises it again. Below floor_min only as
         // far as keeps the next step within one sigma (s / 4 after a step from s sigmas).
         if (ratio > 1.25) {
+          // `sigmas` is still (C) where this step started (updated below).
           const double lowest =
-              std::min(settings.floor_min, std::max(kNearFloor, kNewtonFloor * sigmas_before));
+              std::min(settings.floor_min, std::max(kNearFloor, kNewtonFloor * sigmas));
           floor = std::max(lowest, floor / std::min(4.0, 1.0 / (2.0 - std::min(ratio, 1.75))));
         } else {
           floor = std::min(kNewtonFloor, 4.0 * floor);
