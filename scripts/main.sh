@@ -6,7 +6,8 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 data="${1:-../shared/data}"
 
-scripts/setup.sh release
+# Only what it runs: the study programs, the CLI and the Python module (no tests, no benchmarks).
+scripts/setup.sh release vdtnav_main_job
 bin=build/release/examples
 out="${VDTNAV_OUT:-out}"
 mkdir -p "$out"

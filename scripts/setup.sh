@@ -3,7 +3,8 @@
 # without sudo, with sudo otherwise), then configures and builds one configuration.
 #
 #   scripts/setup.sh [release|asan|fuzz [TARGET...]]   default: release
-#   (fuzz: the libFuzzer targets given, default all of them)
+#   (the targets given, default all of them; fuzz: default all the libFuzzer targets;
+#   scripts/main.sh builds release's vdtnav_main_job: the studies, the CLI and Python only)
 # Builds into build/<config>. Nothing is downloaded but Debian packages.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -59,5 +60,11 @@ case "$config" in
     ;;
   *) echo "usage: scripts/setup.sh [release|asan|fuzz]" >&2; exit 2 ;;
 esac
-echo "[setup] building build/$config with $jobs jobs"
-cmake --build "build/$config" -j "$jobs"
+shift || true
+if (($#)); then
+  echo "[setup] building $* in build/$config with $jobs jobs"
+  cmake --build "build/$config" -j "$jobs" --target "$@"
+else
+  echo "[setup] building build/$config with $jobs jobs"
+  cmake --build "build/$config" -j "$jobs"
+fi
