@@ -10,10 +10,10 @@
 #include <Eigen/Core>
 
 #include "scan_lm.hpp"
+#include "se3_manifold.hpp"
 #include "vdtnav/core/pose2.hpp"
 #include "vdtnav/core/pose3.hpp"
 #include "vdtnav/core/traits.hpp"
-#include "vdtnav/estimation/se3_manifold.hpp"
 #include "vdtnav/estimation/vdt_optimizer.hpp"
 #include "vdtnav/sensor/observation_set.hpp"
 #include "vdtnav/sensor/vdt_sensor_model.hpp"

@@ -1,7 +1,7 @@
 // The Ceres manifolds of the 6-DOF and 4-DOF optimizers: Plus/Minus consistency with pose3.hpp's
 // left perturbation, their Jacobians against finite differences, and the 3D sensor model's
 // derivatives in the 4-DOF tangent against finite differences along Se3YawManifold::Plus.
-#include "vdtnav/estimation/se3_manifold.hpp"
+#include "se3_manifold.hpp"
 
 #include <gtest/gtest.h>
 

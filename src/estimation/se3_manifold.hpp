@@ -3,8 +3,8 @@
 /// \brief Ceres manifolds for SE(3) poses with the left perturbation of pose3.hpp, and the
 /// 4-DOF (x, y, z, yaw) sub-manifold that holds roll and pitch (from an IMU), as DLL does.
 ///
-/// Opt-in glue (like manif's include/manif/ceres/): this header includes Ceres, so a consumer
-/// that includes it links Ceres::ceres itself; the rest of vdtnav never exposes Ceres.
+/// Private to vdtnav::estimation (its Ceres solver backend, scan_cost.hpp): Ceres is a private
+/// dependency, so no installed header includes it (issue 58).
 ///
 /// Ambient parameters (7): x = (q_x, q_y, q_z, q_w, t_x, t_y, t_z), the unit quaternion of R in
 /// Eigen's coefficient order followed by the translation.
