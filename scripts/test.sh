@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # The test suite: a Release build with -Wall -Wextra -Wpedantic -Werror and all tests, the main
 # job's studies with their headline figures checked against tests/studies/expected.yaml, the
-# tests again under AddressSanitizer + UndefinedBehaviorSanitizer, the parsers' fuzz targets for a
-# few seconds each (scripts/fuzz.sh runs them for longer), and the benchmarks in smoke mode.
+# tests again under AddressSanitizer + UndefinedBehaviorSanitizer, the Eigen-only build (Ceres,
+# OpenCV, PCL and OctoMap switched off: the layers), the parsers' fuzz targets for a few seconds
+# each (scripts/fuzz.sh runs them for longer), and the benchmarks in smoke mode.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 jobs="$(nproc)"
@@ -14,11 +15,11 @@ data="${1:-../shared/data}"
 studies=build/studies
 rm -rf "$studies"
 
-echo "== [1/5] Release build (-Werror) and tests"
+echo "== [1/6] Release build (-Werror) and tests"
 scripts/setup.sh release
 ctest --test-dir build/release --output-on-failure -j "$jobs"
 
-echo "== [2/5] The studies are tests: the main job (beside the ASan build), its figures checked"
+echo "== [2/6] The studies are tests: the main job (beside the ASan build), its figures checked"
 # Into a folder of its own (the fresh one above). It runs in the background while the sanitized
 # build compiles and tests on the other core: most of its steps use one core. Its time figures
 # (cpu_ms_max, processor time) are checked against loose ceilings only: the sharing inflates them
@@ -27,7 +28,7 @@ VDTNAV_OUT="$studies" scripts/main.sh "$data" > build/main_job.log 2>&1 &
 main_job=$!
 trap 'if [ -n "$main_job" ]; then kill "$main_job" 2>/dev/null || true; fi' EXIT
 
-echo "== [3/5] ASan + UBSan build and tests"
+echo "== [3/6] ASan + UBSan build and tests"
 scripts/setup.sh asan
 # Under the sanitizers the long simulations run 10-20x slower: the Monte Carlo calibrations, the
 # kidnapped-robot drives, the occupancy mapping of a whole run, the exhaustive global search, the
@@ -56,7 +57,10 @@ asan_skip+='|LocalizerNode\.'
 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
   ctest --test-dir build/asan --output-on-failure -j "$jobs" -E "$asan_skip"
 
-echo "== [4/5] Fuzz targets of the parsers, 3000 inputs each (clang, libFuzzer, ASan + UBSan)"
+echo "== [4/6] The layers: the Eigen-only build, installed and consumed (scripts/eigen_only.sh)"
+scripts/eigen_only.sh "$data"
+
+echo "== [5/6] Fuzz targets of the parsers, 3000 inputs each (clang, libFuzzer, ASan + UBSan)"
 # While the main job may still run: both cores stay busy.
 # A fixed seed and input count keep the pass short and bounded; they do not make the inputs the
 # same on every run (libFuzzer's feedback differs from run to run: a clean-clone run found an
@@ -66,7 +70,7 @@ echo "== [4/5] Fuzz targets of the parsers, 3000 inputs each (clang, libFuzzer, 
 # here the file parsers.
 FUZZ_SEED=1 FUZZ_TARGETS="ros_map ros_map_image vdt_map_file carmen_log relations tum_trajectory
   odometry_table point_set pan_tilt_csv camera_calibration camera_poses ros1_bag ros_messages" scripts/fuzz.sh 600 3000
-echo "== [2/5] (continued) the main job's steps, then its figures against tests/studies/expected.yaml"
+echo "== [2/6] (continued) the main job's steps, then its figures against tests/studies/expected.yaml"
 if ! wait "$main_job"; then
   main_job=""
   tail -n 40 build/main_job.log
@@ -80,7 +84,7 @@ data_abs="$(cd "$data" 2>/dev/null && pwd || echo "$data")"
 VDTNAV_STUDIES_OUT="$PWD/$studies" VDTNAV_STUDIES_DATA="$data_abs" \
   ctest --test-dir build/release -L studies -V --output-on-failure
 
-echo "== [5/5] Benchmarks, smoke mode (one short run each; numbers are not meaningful here)"
+echo "== [6/6] Benchmarks, smoke mode (one short run each; numbers are not meaningful here)"
 # BM_LocalizeIntelCeres is left out here: a whole Intel run (~50 s) like BM_LocalizeIntel, with
 # Ceres instead of the dense solver that the small Ceres benchmarks already run; and
 # BM_Localize3DSequence: the Riverside map (~40 s, 1 GB) and its 30 scans, which the main job's

@@ -17,10 +17,8 @@
 #include "vdtnav/core/file_extension.hpp"
 #include "vdtnav/io/ros_map.hpp"
 #include "vdtnav/io/vdt_map_file.hpp"
+#include "vdtnav/map_files/load_map.hpp"
 #include "vdtnav/mapping/occupancy_mapper.hpp"
-#ifdef VDTNAV_PYTHON_3D_FILES
-#include "map3d.hpp"
-#endif
 
 namespace vdtnav::python {
 namespace {
@@ -197,19 +195,6 @@ std::shared_ptr<Map2> map2_from_grid(OccupancyGrid<2> occupancy,
   return m;
 }
 
-/// A saved 2D VDT map: the occupancy is its features (the cells that are their own nearest
-/// occupied cell), what the baselines and the global search need of it.
-std::shared_ptr<Map2> map2_from_vdt(VdtMap2 vdt, std::string source) {
-  auto m = std::make_shared<Map2>();
-  const Grid<std::int32_t, 2>& nearest = vdt.nearest_cells();
-  m->occupancy = OccupancyGrid<2>(nearest.size(), nearest.frame(), 0);
-  for (std::size_t i = 0; i < nearest.num_cells(); ++i)
-    m->occupancy[i] = static_cast<std::uint8_t>(nearest[i] == static_cast<std::int32_t>(i));
-  m->vdt = std::make_unique<VdtMap2>(std::move(vdt));
-  m->source = std::move(source);
-  return m;
-}
-
 std::shared_ptr<Map3> map3_from_grid(const OccupancyGrid<3>& occupancy, bool sparse) {
   auto m = std::make_shared<Map3>();
   py::gil_scoped_release release;
@@ -225,49 +210,38 @@ std::shared_ptr<Map3> map3_from_grid(const OccupancyGrid<3>& occupancy, bool spa
 
 py::object load_map(const std::filesystem::path& file, double resolution, bool sparse,
                     double margin, const py::object& crop) {
-  const std::string path = file.string();
-  const std::string ext = lower_extension(path);
-  if (ext == ".yaml" || ext == ".yml") {
-    RosMap ros = load_ros_map(path);
-    OccupancyGrid<2> occ = occupancy(ros);
-    return py::cast(map2_from_grid(std::move(occ), std::move(ros.cells), "ros map " + path));
-  }
-  if (ext == ".vdt") {
-    try {
-      return py::cast(map2_from_vdt(load_vdt_map<2>(path), "vdt map file " + path));
-    } catch (const FormatError& e) {
-      if (std::string(e.what()).find("dimension") == std::string::npos) throw;
-    }  // a 3D map: below
-  }
-#ifdef VDTNAV_PYTHON_3D_FILES
-  tools::Map3dOptions o;
+  MapLoadOptions o;
   o.resolution = resolution;
   o.sparse = sparse;
   o.margin = margin;
-  o.quiet = true;
   if (!crop.is_none()) {
     const Eigen::VectorXd c = to_vector(crop, 6, "crop");
-    o.crop = tools::CropBox{c.head<3>(), c.tail<3>()};
+    o.crop = CropBox{c.head<3>(), c.tail<3>()};
   }
-  tools::Map3d loaded;
+  LoadedMap loaded;
   {
     py::gil_scoped_release release;
-    loaded = tools::load_map3d(path, o);
+    loaded = vdtnav::load_map(file.string(), o);
+  }
+  const std::string source = loaded.source + " " + file.string();
+  if (loaded.dimension == 2) {
+    auto m = std::make_shared<Map2>();
+    m->occupancy = std::move(loaded.occupancy);
+    m->vdt = std::move(loaded.vdt);
+    // What is known of the map: a map_server map's (and an uncertain map's) unknown cells; a
+    // saved VDT map keeps no record of them.
+    if (loaded.source != "vdt map file") {
+      m->cells = std::move(loaded.ros.cells);
+      m->knowledge = MapKnowledge(*m->cells);
+    }
+    m->source = source;
+    return py::cast(m);
   }
   auto m = std::make_shared<Map3>();
   m->dense = std::move(loaded.dense);
   m->sparse = std::move(loaded.sparse);
-  m->source = loaded.source + " " + path;
+  m->source = source;
   return py::cast(m);
-#else
-  (void)resolution;
-  (void)sparse;
-  (void)margin;
-  (void)crop;
-  throw ConfigError(path +
-                    ": this build reads 2D maps only (.yaml, .vdt): 3D files need the "
-                    "pcl and octomap front ends");
-#endif
 }
 
 constexpr const char* kLookupDoc = R"doc(
@@ -424,8 +398,9 @@ void bind_maps(py::module_& m) {
 
   m.def("load_map", &load_map, py::arg("path"), py::arg("resolution") = 0.0,
         py::arg("sparse") = false, py::arg("margin") = 1.0, py::arg("crop") = py::none(),
-        "Loads any map file the CLI loads: a ROS map YAML (.yaml: a Map2 with its unknown cells) "
-        "or a 2D .vdt (Map2); a 3D .vdt, .svdt, OctoMap (.bt, .ot) or point cloud (.pcd, .ply, "
+        "Loads any map file the CLI loads (vdtnav::load_map): a ROS map YAML (.yaml: a Map2 with "
+        "its unknown cells), an uncertain map file (.umap) or a 2D .vdt (Map2); a 3D .vdt, .svdt, "
+        "OctoMap (.bt, .ot) or point cloud (.pcd, .ply, "
         ".vtk, .xyz/.txt/.csv) as a Map3. resolution: the voxel edge for clouds (0: 0.1 m) and "
         "octrees (0: their leaf size); sparse: build a SparseVdtMap3; margin: free border around "
         "a cloud or octree, metres; crop: (xmin, ymin, zmin, xmax, ymax, zmax), the cloud points "

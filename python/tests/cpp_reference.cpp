@@ -11,12 +11,12 @@
 #include <string>
 #include <vector>
 
-#include "map3d.hpp"
 #include "vdtnav/core/error.hpp"
 #include "vdtnav/estimation/localizer_factory.hpp"
 #include "vdtnav/io/carmen_log.hpp"
 #include "vdtnav/io/log_odometry.hpp"
 #include "vdtnav/io/ros_map.hpp"
+#include "vdtnav/map_files/load_map.hpp"
 #include "vdtnav/pcl/cloud_observations.hpp"
 #include "vdtnav/pcl/point_cloud_file.hpp"
 
@@ -74,9 +74,7 @@ int localize(const std::string& map_path, const std::string& log_path, const std
 }
 
 int localize3d(char** argv) {
-  tools::Map3dOptions mo;
-  mo.quiet = true;
-  const tools::Map3d map = tools::load_map3d(argv[2], mo);
+  const LoadedMap map = load_map(argv[2], MapLoadOptions{}, 3);
   const int dof = std::stoi(argv[4]);
   VdtLocalizer3Options o = cloud_settings().localize3d;
   o.optimizer.four_dof = dof == 4;
@@ -84,9 +82,9 @@ int localize3d(char** argv) {
       pose3_from_xyz_rpy(std::stod(argv[5]), std::stod(argv[6]), std::stod(argv[7]),
                          std::stod(argv[8]), std::stod(argv[9]), std::stod(argv[10]));
   CloudObservationOptions co;
-  co.voxel = map.field().resolution();
+  co.voxel = map.field3().resolution();
   const ObservationSet3 obs = observations_from_cloud(read_point_cloud(argv[3]), co);
-  const VdtOptimizationLocalizer3 localizer(map.field(), o);
+  const VdtOptimizationLocalizer3 localizer(map.field3(), o);
   LocalizationResult3 r = localize_from_guess(localizer, obs, guess);
   if (dof == 4 && r.has_covariance)
     r.covariance = localizer.with_held_attitude(obs, r, o.held_attitude_sigma);

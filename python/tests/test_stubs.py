@@ -20,7 +20,7 @@ import vdtnav
 core = vdtnav._vdtnav
 STUB = pathlib.Path(__file__).resolve().parents[1] / "vdtnav" / "__init__.pyi"
 
-# Bound only in some builds: with the 3D front ends (pcl, octomap; VDTNAV_PYTHON_3D_FILES) and
+# Bound only in some builds: with the 3D front ends (pcl; VDTNAV_PYTHON_3D_FILES) and
 # with the ROS front end (VDTNAV_PYTHON_ROS). Each group is all there or all absent.
 OPTIONAL = [
     {"OdometryStep3", "localize3d", "Localizer3D", "make_localizer3d", "read_point_cloud",

@@ -193,8 +193,8 @@ def load_map(
     margin: float = 1.0,
     crop: npt.ArrayLike | None = None,
 ) -> Map2 | Map3:
-    """Loads any map file the CLI loads: a ROS map YAML (.yaml: a Map2 with its unknown cells)
-    or a 2D .vdt (Map2); a 3D .vdt, .svdt, OctoMap (.bt, .ot) or point cloud (.pcd, .ply, .vtk,
+    """Loads any map file the CLI loads (vdtnav::load_map): a ROS map YAML (.yaml: a Map2 with
+    its unknown cells), an uncertain map file (.umap) or a 2D .vdt (Map2); a 3D .vdt, .svdt, OctoMap (.bt, .ot) or point cloud (.pcd, .ply, .vtk,
     .xyz/.txt/.csv) as a Map3 (builds with the 3D front ends; else ConfigError). resolution: the
     voxel edge for clouds (0: 0.1 m) and octrees (0: their leaf size); sparse: build a
     SparseVdtMap3; margin: free border around a cloud or octree, metres; crop: (xmin, ymin, zmin,

@@ -1,7 +1,8 @@
-// The Ceres backend of VdtOptimizerT: the scan residual block ScanCost (robust loss folded in),
-// the prior block PriorCost, the Ceres settings, one solve (Ceres or the dense LM of
-// scan_lm.hpp) and the Cauchy IRLS passes of the coarse alignment.
-#include "scan_cost.hpp"
+// The Ceres backend of VdtOptimizerT (ScanSolver::kCeres): the pose block on its manifold, the
+// scan residual block ScanCost (robust loss folded in), the prior block PriorCost, the Ceres
+// settings and one solve. Built only with Ceres (without_ceres.cpp otherwise).
+#include "ceres_backend.hpp"
+#include "scan_solve.hpp"
 
 #include <ceres/ceres.h>
 
@@ -14,9 +15,40 @@
 #include <Eigen/Cholesky>
 
 #include "scan_lm.hpp"
+#include "se3_manifold.hpp"
 
 namespace vdtnav::detail {
 namespace {
+
+/// The Ceres side of Parameterization<Dim>: the block's manifold, and how a Jacobian in the pose
+/// perturbation of PoseTraits<Dim> becomes a Jacobian in the block.
+template <int Dim>
+struct CeresBlock;
+
+/// 2D: (x, y, phi) Euclidean (the additive perturbation of PoseTraits<2>), the Jacobian as it is.
+template <>
+struct CeresBlock<2> {
+  static ceres::Manifold* manifold(bool /*four_dof*/) { return nullptr; }
+  struct Jacobian {
+    Jacobian(const double* /*x*/, bool /*four_dof*/) {}
+    template <int Rows>
+    void operator()(const Eigen::Matrix<double, Rows, 3>& d, double* out) const {
+      Eigen::Map<Eigen::Matrix<double, Rows, 3, Eigen::RowMajor>>{out} = d;
+    }
+  };
+};
+
+/// 3D: Se3LeftManifold, or Se3YawManifold in the 4-DOF mode (se3_manifold.hpp).
+template <>
+struct CeresBlock<3> {
+  /// Stateless, shared by every problem (not owned by them).
+  static ceres::Manifold* manifold(bool four_dof) {
+    static Se3LeftManifold se3;
+    static Se3YawManifold yaw;
+    return four_dof ? static_cast<ceres::Manifold*>(&yaw) : &se3;
+  }
+  using Jacobian = Se3AmbientJacobian;
+};
 
 /// All inlier readings of a set as one residual block (Dim residuals per reading, one pose block):
 /// one virtual call per evaluation, the rotation shared by every reading.
@@ -82,7 +114,7 @@ class ScanCost final : public ceres::CostFunction {
     const typename Traits::Pose pose = P::pose(x);
     const typename Traits::Rotation r = Traits::rotation(pose);
     const Vector t = Traits::translation(pose);
-    const typename P::Jacobian to_block(x, four_dof_);
+    const typename CeresBlock<Dim>::Jacobian to_block(x, four_dof_);
     // One batch lookup of the readings; trial steps (no Jacobian) take the value-only kernel.
     thread_local std::vector<BeamDisparityT<Dim>> ds;  // scratch: no allocation per evaluation
     model_.disparities(r, t, scan_, &beams_, &ds,
@@ -160,7 +192,7 @@ ceres::Problem::Options problem_options() {
 /// Puts the pose block x on the parameterization's manifold (if any).
 template <int Dim>
 void set_manifold(ceres::Problem& problem, double* x, bool four_dof) {
-  ceres::Manifold* m = Parameterization<Dim>::manifold(four_dof);
+  ceres::Manifold* m = CeresBlock<Dim>::manifold(four_dof);
   if (m != nullptr) problem.SetManifold(x, m);
 }
 
@@ -183,7 +215,7 @@ class PriorCost final
     Eigen::Map<typename Traits::Tangent> r(residuals);
     r = sqrt_information_ * e;
     if (jacobians != nullptr && jacobians[0] != nullptr) {
-      const typename Parameterization<Dim>::Jacobian ambient(params[0], four_dof_);
+      const typename CeresBlock<Dim>::Jacobian ambient(params[0], four_dof_);
       ambient(sqrt_information_, jacobians[0]);
     }
     return true;
@@ -198,26 +230,10 @@ class PriorCost final
 }  // namespace
 
 template <int Dim>
-detail::ScanLmSummary run_solver(const VdtSensorModelT<Dim>& model, const ObservationSet<Dim>& scan,
-                                 const std::vector<int>& beams, const std::vector<double>& sqrt_w,
-                                 RobustLoss loss, double loss_scale, const SolveSetup& setup,
-                                 const PosePrior<Dim>* prior, double* x) {
-  if (setup.solver == ScanSolver::kDense) {
-    detail::ScanLmSettings ls;
-    ls.max_iterations = setup.max_iterations;
-    ls.parameter_tolerance = setup.parameter_tolerance;
-    ls.step_sigma = setup.step_sigma;
-    ls.newton = setup.newton;
-    ls.floor_min = setup.newton_floor;
-    // sigma of (C); a floor of 1 mm for a noiseless reading on an exact map.
-    ls.sigma = std::sqrt(std::max(disparity_variance(model, scan), 1e-6));
-    ls.held_mask = (Dim == 3 && setup.four_dof) ? (1u << 3 | 1u << 4) : 0u;  // see is_free()
-    typename PoseTraits<Dim>::Pose pose = Parameterization<Dim>::pose(x);
-    const detail::ScanLmSummary out =
-        detail::solve_scan_lm<Dim>(model, scan, beams, sqrt_w, loss, loss_scale, ls, &pose, prior);
-    Parameterization<Dim>::set(pose, x);
-    return out;
-  }
+ScanLmSummary run_ceres_solver(const VdtSensorModelT<Dim>& model, const ObservationSet<Dim>& scan,
+                               const std::vector<int>& beams, const std::vector<double>& sqrt_w,
+                               RobustLoss loss, double loss_scale, const SolveSetup& setup,
+                               const PosePrior<Dim>* prior, double* x) {
   ceres::Problem problem(problem_options());
   problem.AddResidualBlock(
       new ScanCost<Dim>(model, scan, beams, setup.four_dof, sqrt_w, loss, loss_scale), nullptr, x);
@@ -235,40 +251,9 @@ detail::ScanLmSummary run_solver(const VdtSensorModelT<Dim>& model, const Observ
   return out;
 }
 
-template <int Dim>
-int solve_cauchy_irls(const VdtSensorModelT<Dim>& model, const ObservationSet<Dim>& scan,
-                      const std::vector<int>& beams, double scale, const SolveSetup& setup,
-                      int passes, const PosePrior<Dim>* prior, double* x) {
-  using Traits = PoseTraits<Dim>;
-  int iterations = 0;
-  std::vector<double> sqrt_w(beams.size());
-  thread_local std::vector<BeamDisparityT<Dim>> ds;  // scratch: no allocation per scan
-  for (int pass = 0; pass < passes; ++pass) {
-    const typename Traits::Pose at = Parameterization<Dim>::pose(x);
-    model.disparities(Traits::rotation(at), Traits::translation(at), scan, &beams, &ds,
-                      DisparityParts::kValue);
-    for (std::size_t k = 0; k < beams.size(); ++k) {
-      sqrt_w[k] = std::sqrt(robust_weight(RobustLoss::kCauchy, scale, ds[k].d.squaredNorm()));
-    }
-    iterations +=
-        run_solver(model, scan, beams, sqrt_w, RobustLoss::kNone, 1.0, setup, prior, x).iterations;
-  }
-  return iterations;
-}
+VDTNAV_INSTANTIATE_RUN_CERES_SOLVER(2);
+VDTNAV_INSTANTIATE_RUN_CERES_SOLVER(3);
 
-template ScanLmSummary run_solver<2>(const VdtSensorModelT<2>&, const ObservationSet<2>&,
-                                     const std::vector<int>&, const std::vector<double>&,
-                                     RobustLoss, double, const SolveSetup&, const PosePrior<2>*,
-                                     double*);
-template ScanLmSummary run_solver<3>(const VdtSensorModelT<3>&, const ObservationSet<3>&,
-                                     const std::vector<int>&, const std::vector<double>&,
-                                     RobustLoss, double, const SolveSetup&, const PosePrior<3>*,
-                                     double*);
-template int solve_cauchy_irls<2>(const VdtSensorModelT<2>&, const ObservationSet<2>&,
-                                  const std::vector<int>&, double, const SolveSetup&, int,
-                                  const PosePrior<2>*, double*);
-template int solve_cauchy_irls<3>(const VdtSensorModelT<3>&, const ObservationSet<3>&,
-                                  const std::vector<int>&, double, const SolveSetup&, int,
-                                  const PosePrior<3>*, double*);
+bool ceres_backend_available() { return true; }
 
 }  // namespace vdtnav::detail

@@ -3,7 +3,7 @@
 /// \brief Ceres manifolds for SE(3) poses with the left perturbation of pose3.hpp, and the
 /// 4-DOF (x, y, z, yaw) sub-manifold that holds roll and pitch (from an IMU), as DLL does.
 ///
-/// Private to vdtnav::estimation (its Ceres solver backend, scan_cost.hpp): Ceres is a private
+/// Private to vdtnav::estimation (its Ceres solver backend, scan_cost.cpp): Ceres is a private
 /// dependency, so no installed header includes it (issue 58).
 ///
 /// Ambient parameters (7): x = (q_x, q_y, q_z, q_w, t_x, t_y, t_z), the unit quaternion of R in
@@ -27,26 +27,10 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include "se3_parameters.hpp"
 #include "vdtnav/core/pose3.hpp"
 
 namespace vdtnav {
-
-/// \brief Writes the 7 ambient parameters (q_x, q_y, q_z, q_w, t) of `pose`.
-inline void se3_to_parameters(const Pose3& pose, double* x) {
-  Eigen::Quaterniond q(pose.linear());
-  q.normalize();
-  if (q.w() < 0.0) q.coeffs() = -q.coeffs();  // one of the two covers, w >= 0
-  Eigen::Map<Eigen::Vector4d>{x} = q.coeffs();
-  Eigen::Map<Eigen::Vector3d>{x + 4} = pose.translation();
-}
-
-/// \return the pose of 7 ambient parameters (the quaternion is normalised).
-[[nodiscard]] inline Pose3 se3_from_parameters(const double* x) {
-  Pose3 pose = Pose3::Identity();
-  pose.linear() = Eigen::Quaterniond(x[3], x[0], x[1], x[2]).normalized().toRotationMatrix();
-  pose.translation() = Eigen::Map<const Eigen::Vector3d>(x + 4);
-  return pose;
-}
 
 namespace detail {
 

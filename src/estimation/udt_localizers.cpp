@@ -1,12 +1,11 @@
 #include "vdtnav/estimation/udt_localizers.hpp"
 
-#include <ceres/ceres.h>
-
 #include <cmath>
 #include <vector>
 
 #include <Eigen/LU>
 
+#include "ceres_backend.hpp"
 #include "vdtnav/core/error.hpp"
 
 namespace vdtnav {
@@ -40,33 +39,6 @@ Grid<float, 2> udt_of(const OccupancyGrid<2>& map) {
   return unsigned_distance_transform(nearest_occupied_cells(checked(map)));
 }
 
-class ChamferCost final : public ceres::CostFunction {
- public:
-  ChamferCost(const DistanceFieldMap<2>& udt, const ScanPoints& scan, std::vector<int> beams)
-      : udt_(udt), scan_(scan), beams_(std::move(beams)) {
-    set_num_residuals(static_cast<int>(beams_.size()));
-    mutable_parameter_block_sizes()->push_back(3);
-  }
-  bool Evaluate(double const* const* params, double* residuals, double** jacobians) const override {
-    const Pose2 pose(params[0][0], params[0][1], params[0][2]);
-    const double c = std::cos(pose[2]), s = std::sin(pose[2]);
-    for (std::size_t k = 0; k < beams_.size(); ++k) {
-      const int i = beams_[k];
-      const UdtBeam b = udt_beam(udt_, pose, c, s, scan_.points[i], scan_.directions[i], 1e9);
-      residuals[k] = b.e;
-      if (jacobians != nullptr && jacobians[0] != nullptr) {
-        for (int j = 0; j < 3; ++j) jacobians[0][3 * k + j] = b.e_pose[j];
-      }
-    }
-    return true;
-  }
-
- private:
-  const DistanceFieldMap<2>& udt_;
-  const ScanPoints& scan_;
-  std::vector<int> beams_;
-};
-
 }  // namespace
 
 UdtOptimizationLocalizer::UdtOptimizationLocalizer(const OccupancyGrid<2>& map,
@@ -74,6 +46,9 @@ UdtOptimizationLocalizer::UdtOptimizationLocalizer(const OccupancyGrid<2>& map,
     : udt_(udt_of(map)), options_(options) {
   VDTNAV_CHECK(options.gate > 0.0 && options.min_inliers >= 3,
                "udt-opt: gate must be > 0, min_inliers >= 3");
+  VDTNAV_CHECK(detail::ceres_backend_available(),
+               "udt-opt: its chamfer solve needs Ceres, and this vdtnav was built without it "
+               "(install libceres-dev and rebuild; vdt-opt, vdt-ekf and udt-ekf need no Ceres)");
 }
 
 void UdtOptimizationLocalizer::reset(const Pose2& pose, const Eigen::Matrix3d& /*covariance*/) {
@@ -101,27 +76,16 @@ LocalizationResult UdtOptimizationLocalizer::update(const OdometryStep& odometry
     return r;
   }
   double x[3] = {guess[0], guess[1], guess[2]};
-  ceres::Problem::Options po;
-  po.disable_all_safety_checks = true;
-  ceres::Problem problem(po);
-  problem.AddResidualBlock(new ChamferCost(udt_, pts, beams), nullptr, x);
-  ceres::Solver::Options so;
-  so.linear_solver_type = ceres::DENSE_NORMAL_CHOLESKY;
-  so.max_num_iterations = options_.max_iterations;
-  so.function_tolerance = 1e-6;
-  so.parameter_tolerance = 1e-6;
-  so.logging_type = ceres::SILENT;
-  ceres::Solver::Summary summary;
-  ceres::Solve(so, &problem, &summary);
-  r.iterations = static_cast<int>(summary.iterations.size());
+  const detail::ChamferSolve summary =
+      detail::solve_chamfer(udt_, pts, beams, options_.max_iterations, x);
+  r.iterations = summary.iterations;
   r.final_cost = 2.0 * summary.final_cost;
-  if (summary.termination_type == ceres::FAILURE || !std::isfinite(summary.final_cost)) {
+  if (summary.failed) {
     r.status = LocalizationStatus::kDiverged;
     pose_ = guess;
     return r;
   }
-  r.status = summary.termination_type == ceres::CONVERGENCE ? LocalizationStatus::kConverged
-                                                            : LocalizationStatus::kNotConverged;
+  r.status = summary.converged ? LocalizationStatus::kConverged : LocalizationStatus::kNotConverged;
   r.pose = Pose2(x[0], x[1], wrap_angle(x[2]));
   r.has_covariance = false;  // C-LOG reports no uncertainty (Table 3.3)
   pose_ = r.pose;

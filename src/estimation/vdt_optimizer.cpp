@@ -9,9 +9,10 @@
 #include <memory>
 #include <vector>
 
+#include "ceres_backend.hpp"
 #include "lookup_order.hpp"
-#include "scan_cost.hpp"
 #include "scan_lm.hpp"
+#include "scan_solve.hpp"
 #include "vdtnav/core/error.hpp"
 
 namespace vdtnav {
@@ -53,6 +54,9 @@ template <int Dim>
 void VdtOptimizerT<Dim>::validate_and_default() {
   const VdtOptimizerOptions& options = options_;
   VDTNAV_CHECK(options.max_iterations >= 1, "optimizer: max_iterations must be >= 1");
+  VDTNAV_CHECK(options.solver != ScanSolver::kCeres || detail::ceres_backend_available(),
+               "optimizer: solver 'ceres' needs Ceres, and this vdtnav was built without it "
+               "(install libceres-dev and rebuild, or use the default solver 'dense')");
   VDTNAV_CHECK(options.function_tolerance > 0.0 && options.function_tolerance < 1.0,
                "optimizer: function_tolerance must be in (0, 1)");
   VDTNAV_CHECK(options.step_sigma > 0.0 && std::isfinite(options.step_sigma),

@@ -1,23 +1,21 @@
-# cmake -DBUILD_DIR=... -DWORK_DIR=... -DCONSUMER_DIR=... [-DCONSUME_PCL=ON] [-DCONSUME_OCTOMAP=ON]
-#       [-DCONSUME_UAV_CAMERA=ON] [-DCONSUME_RGBD_GROUND=ON] [-DCONSUME_ROS=ON] [-DROS_NODE=ON]
-#       -P install_and_consume.cmake
-# CONSUME_<FRONTEND>: also build and run the consumer of that front end (only when it was built).
+# cmake -DBUILD_DIR=... -DWORK_DIR=... -DCONSUMER_DIR=... [-DWITH_CERES=OFF] [-DCONSUME_VIZ=ON]
+#       [-DCONSUME_PCL=ON] [-DCONSUME_OCTOMAP=ON] [-DCONSUME_UAV_CAMERA=ON]
+#       [-DCONSUME_RGBD_GROUND=ON] [-DCONSUME_ROS=ON] [-DROS_NODE=ON] -P install_and_consume.cmake
+# CONSUME_<COMPONENT>: also build and run the consumer of that component (only when it was built).
+# WITH_CERES=OFF (a build without Ceres): the consumer is configured with Ceres, OpenCV, PCL and
+# OctoMap disabled, so it proves the Eigen-only components need none of them, and the
+# estimation and mapping consumers check that what needs Ceres says so.
 # ROS_NODE: roslaunch's resolver must find the installed vdtnav_localizer as package vdtnav.
-if(NOT DEFINED CONSUME_PCL)
-  set(CONSUME_PCL OFF)
-endif()
-if(NOT DEFINED CONSUME_OCTOMAP)
-  set(CONSUME_OCTOMAP OFF)
-endif()
-if(NOT DEFINED CONSUME_UAV_CAMERA)
-  set(CONSUME_UAV_CAMERA OFF)
-endif()
-if(NOT DEFINED CONSUME_RGBD_GROUND)
-  set(CONSUME_RGBD_GROUND OFF)
-endif()
-if(NOT DEFINED CONSUME_ROS)
-  set(CONSUME_ROS OFF)
-endif()
+foreach(flag WITH_CERES CONSUME_VIZ)
+  if(NOT DEFINED ${flag})
+    set(${flag} ON)
+  endif()
+endforeach()
+foreach(flag CONSUME_PCL CONSUME_OCTOMAP CONSUME_UAV_CAMERA CONSUME_RGBD_GROUND CONSUME_ROS)
+  if(NOT DEFINED ${flag})
+    set(${flag} OFF)
+  endif()
+endforeach()
 file(REMOVE_RECURSE ${WORK_DIR})
 set(prefix ${WORK_DIR}/prefix)
 function(run)
@@ -33,7 +31,7 @@ run(${CMAKE_COMMAND} --install ${BUILD_DIR} --prefix ${prefix})
 if(EXISTS ${prefix}/include/vdtnav/camera_sim)
   message(FATAL_ERROR "the study fixture camera_sim was installed: ${prefix}/include/vdtnav/camera_sim")
 endif()
-foreach(layer core map sensor eval io sim estimation mapping viz)
+foreach(layer core map sensor eval io sim estimation mapping viz map_files)
   file(GLOB_RECURSE headers ${prefix}/include/vdtnav/${layer}/*.hpp)
   foreach(h IN LISTS headers)
     file(STRINGS ${h} private REGEX "^#include <(ceres|opencv2|pcl|octomap|yaml-cpp|ros|tf2|fastcdr|sqlite3|suitesparse|cholmod)")
@@ -42,18 +40,39 @@ foreach(layer core map sensor eval io sim estimation mapping viz)
     endif()
   endforeach()
 endforeach()
+set(consumer_flags "")
+set(ceres_arg "")
+if(NOT WITH_CERES)
+  set(consumer_flags -DCMAKE_DISABLE_FIND_PACKAGE_Ceres=ON -DCMAKE_DISABLE_FIND_PACKAGE_OpenCV=ON
+                     -DCMAKE_DISABLE_FIND_PACKAGE_PCL=ON -DCMAKE_DISABLE_FIND_PACKAGE_octomap=ON)
+  set(ceres_arg no-ceres)
+endif()
 run(${CMAKE_COMMAND} -S ${CONSUMER_DIR} -B ${WORK_DIR}/consumer -DCMAKE_PREFIX_PATH=${prefix}
-    -DCMAKE_BUILD_TYPE=${CMAKE_BUILD_TYPE}
+    -DCMAKE_BUILD_TYPE=${CMAKE_BUILD_TYPE} ${consumer_flags} -DVDTNAV_CONSUME_VIZ=${CONSUME_VIZ}
     -DVDTNAV_CONSUME_PCL=${CONSUME_PCL} -DVDTNAV_CONSUME_OCTOMAP=${CONSUME_OCTOMAP}
     -DVDTNAV_CONSUME_UAV_CAMERA=${CONSUME_UAV_CAMERA}
     -DVDTNAV_CONSUME_RGBD_GROUND=${CONSUME_RGBD_GROUND} -DVDTNAV_CONSUME_ROS=${CONSUME_ROS})
 run(${CMAKE_COMMAND} --build ${WORK_DIR}/consumer)
-foreach(component core map sensor eval sim estimation mapping localization_estimation
-                  localization_mapping)
+foreach(component core map sensor eval sim map_files)
   run(${WORK_DIR}/consumer/consumer_${component})
 endforeach()
+foreach(component estimation mapping localization_estimation localization_mapping)
+  run(${WORK_DIR}/consumer/consumer_${component} ${ceres_arg})
+endforeach()
 run(${WORK_DIR}/consumer/consumer_io ${WORK_DIR}/roundtrip.vdtmap)
-run(${WORK_DIR}/consumer/consumer_viz ${WORK_DIR}/consumer_viz.png)
+if(CONSUME_VIZ)
+  run(${WORK_DIR}/consumer/consumer_viz ${WORK_DIR}/consumer_viz.png)
+endif()
+# Without Ceres, vdtnav::estimation's consumer links no Ceres (nor glog, which comes with it).
+if(NOT WITH_CERES)
+  file(READ ${WORK_DIR}/consumer/CMakeFiles/consumer_estimation.dir/link.txt estimation_link)
+  foreach(forbidden ceres glog opencv cholmod)
+    string(FIND "${estimation_link}" "${forbidden}" at)
+    if(NOT at EQUAL -1)
+      message(FATAL_ERROR "vdtnav::estimation's consumer links ${forbidden}: ${estimation_link}")
+    endif()
+  endforeach()
+endif()
 # vdtnav::map alone: its link line names no Ceres, OpenCV, PCL or simulator (docs/architecture.md).
 file(READ ${WORK_DIR}/consumer/CMakeFiles/consumer_map.dir/link.txt map_link)
 foreach(forbidden ceres glog opencv pcl_ octomap vdtnav_sim vdtnav_estimation vdtnav_mapping)

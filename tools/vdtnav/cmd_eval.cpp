@@ -335,7 +335,8 @@ void add_eval_command(CLI::App& app) {
       ->capture_default_str();
   cmd->add_flag("--json", args->json, "Also print the results as JSON");
   cmd->add_option("--json-out", args->json_path, "Write the JSON to this file");
-  cmd->add_option("--plot", args->plot, "Figure prefix: PREFIX_errors.png (needs --reference)");
+  cmd->add_option("--plot", args->plot, "Figure prefix: PREFIX_errors.png (needs --reference)")
+      ->check(plot_option_check);
   cmd->callback([args] { run_eval(*args); });
 }
 

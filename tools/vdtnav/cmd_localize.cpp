@@ -197,10 +197,10 @@ void run_localize(const LocalizeArgs& a) {
                                             ? std::nullopt
                                             : std::optional<Pose2>(parse_pose(a.init, "--init"));
   std::fprintf(stderr, "[localize] loading map %s\n", a.map.c_str());
-  const LoadedMap map = load_map(a.map);
-  std::fprintf(stderr, "[localize] map %d x %d cells of %.3f m, VDT built in %.3f s\n",
+  const LoadedMap map = load_map2(a.map);
+  std::fprintf(stderr, "[localize] map %d x %d cells of %.3f m (%s), read and built in %.3f s\n",
                map.occupancy.size().x(), map.occupancy.size().y(), map.occupancy.resolution(),
-               map.build_seconds);
+               map.source.c_str(), map.seconds);
   if (map.uncertain != nullptr) {
     // The map's covariance joins the update's and the reported covariance of the methods that
     // read the VDT (vdt-opt, vdt-ekf, the beam EKFs); its per-reading floor is the fit's.
@@ -426,8 +426,8 @@ void add_localize_command(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand("localize", "Localize a log's scans on a map");
   // --map, --log and --out are required unless --print-config (checked in run_localize).
   cmd->add_option("--map", args->map,
-                  "ROS map_server YAML, or an uncertain map file PREFIX.umap (vdtnav map "
-                  "--uncertain) (required)")
+                  "ROS map_server YAML, an uncertain map file PREFIX.umap (vdtnav map "
+                  "--uncertain) or a 2D VDT map PREFIX.vdt (required)")
       ->check(input_file("--map"));
   cmd->add_option("--log", args->log, "CARMEN log, plain or gzip (this or --bag)")
       ->check(input_file("--log"));
@@ -476,7 +476,8 @@ void add_localize_command(CLI::App& app) {
   add_pose_selection_options(*cmd, args->all_poses, args->accept_status, "--out",
                              "the --cov table");
   cmd->add_option("--plot", args->plot,
-                  "Figure prefix: PREFIX_trajectory.png, PREFIX_scans.png (reprojected scans)");
+                  "Figure prefix: PREFIX_trajectory.png, PREFIX_scans.png (reprojected scans)")
+      ->check(plot_option_check);
   cmd->add_option("--odometry", args->odometry,
                   "auto: ODOM lines when usable, else the laser odom fields; odom; laser")
       ->check(CLI::IsMember({"auto", "odom", "laser"}))

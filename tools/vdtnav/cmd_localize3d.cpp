@@ -16,7 +16,6 @@
 
 #include "common.hpp"
 #include "exit_status.hpp"
-#include "map3d.hpp"
 #include "parse.hpp"
 #include "staged_output.hpp"
 #include "vdtnav/core/error.hpp"
@@ -55,7 +54,7 @@ struct Localize3dArgs {
   std::string times;    // --times FILE: a stamp per scan (KITTI's times.txt)
   std::string odom;     // --odom FILE: the odometry's pose per scan (KITTI, or TUM by stamp)
   int dof = 6;
-  Map3dOptions map_options;
+  MapLoadOptions map_options;
   double voxel = -1.0;
   double min_range = 0.0;
   double max_range = std::numeric_limits<double>::infinity();
@@ -342,9 +341,9 @@ void run_localize3d(const Localize3dArgs& a) {
   Pose3 init = Pose3::Identity();
   if (!a.init.empty() && !init_global) init = parse_pose3(a.init, "--init");
   if (!a.init_matrix.empty()) init = read_pose_matrix(a.init_matrix);
-  Map3dOptions mo = a.map_options;
-  mo.quiet = a.quiet;
-  if (!a.crop.empty()) mo.crop = parse_crop(a.crop, "--crop");
+  MapLoadOptions mo = a.map_options;
+  if (!a.quiet) mo.say = say_on_stderr("map3d");
+  if (!a.crop.empty()) mo.crop = parse_crop_box(a.crop, "--crop");
   const std::vector<std::string> scans =
       !a.bag.empty() ? std::vector<std::string>{}
                      : (a.scans_dir.empty() ? a.scans : point_cloud_files_in(a.scans_dir));
@@ -379,8 +378,8 @@ void run_localize3d(const Localize3dArgs& a) {
   if (sequence && !a.out.empty()) out_dir = staged.folder(a.out);
 
   std::fprintf(stderr, "[localize3d] map %s\n", a.map.c_str());
-  const Map3d map = load_map3d(a.map, mo);
-  const VdtField3& field = map.field();
+  const LoadedMap map = load_map(a.map, mo, 3);
+  const VdtField3& field = map.field3();
   std::fprintf(stderr,
                "[localize3d] %s map %d x %d x %d voxels of %.3f m, %.0f MB, ready in %.2f s\n",
                map.source.c_str(), field.size().x(), field.size().y(), field.size().z(),

@@ -5,7 +5,6 @@
 
 #include "common.hpp"
 #include "exit_status.hpp"
-#include "map3d.hpp"
 #include "parse.hpp"
 #include "staged_output.hpp"
 #include "vdtnav/core/error.hpp"
@@ -18,9 +17,10 @@ namespace {
 
 struct Map3dArgs {
   std::string map, out, crop, lidar_pose;
-  Map3dOptions options;
-  ScanRun run;
+  MapLoadOptions options;
+  MapScanRun run;
   int threads = -1;
+  bool quiet = false;
 };
 
 void run_map3d(const Map3dArgs& a) {
@@ -29,8 +29,8 @@ void run_map3d(const Map3dArgs& a) {
     throw UsageError("map3d: give --map FILE (a cloud or an octree) or --scans DIR --poses FILE");
   if (a.run.dir.empty() != a.run.poses.empty())
     throw UsageError("map3d: --scans DIR and --poses FILE go together");
-  Map3dOptions o = a.options;
-  if (!a.crop.empty()) o.crop = parse_crop(a.crop, "--crop");
+  MapLoadOptions o = a.options;
+  if (!a.crop.empty()) o.crop = parse_crop_box(a.crop, "--crop");
   const auto ends_with = [&](const std::string& e) {
     return a.out.size() > e.size() && a.out.compare(a.out.size() - e.size(), e.size(), e) == 0;
   };
@@ -39,18 +39,19 @@ void run_map3d(const Map3dArgs& a) {
     throw UsageError("map3d: --out must name a .vdt (dense) or .svdt (sparse) file, got '" + a.out +
                      "'");
   }
-  ScanRun run = a.run;
+  MapScanRun run = a.run;
   if (!a.lidar_pose.empty()) run.lidar_pose = parse_pose3(a.lidar_pose, "--lidar-pose");
-  if (!o.quiet) {
+  if (!a.quiet) {
+    o.say = say_on_stderr("map3d");
     std::fprintf(stderr, "[map3d] building the %s VDT map of %s\n", o.sparse ? "sparse" : "dense",
                  a.map.empty() ? run.dir.c_str() : a.map.c_str());
   }
-  const Map3d map = a.map.empty() ? build_map3d_from_scans(run, o) : load_map3d(a.map, o);
+  const LoadedMap map = a.map.empty() ? build_map_from_scans(run, o) : load_map(a.map, o, 3);
   StagedOutputs staged;  // a failed write leaves no partial map
   if (map.dense) save_vdt_map(staged.file(a.out), *map.dense);
   if (map.sparse) save_sparse_vdt_map(staged.file(a.out), *map.sparse);
   staged.commit();
-  const VdtField3& f = map.field();
+  const VdtField3& f = map.field3();
   std::printf("wrote %s: %d x %d x %d voxels of %.3f m, %.1f MB, built in %.2f s\n", a.out.c_str(),
               f.size().x(), f.size().y(), f.size().z(), f.resolution(),
               static_cast<double>(map.memory_bytes()) * 1e-6, map.seconds);
@@ -103,7 +104,7 @@ void add_map3d_command(CLI::App& app) {
                 "Clouds: thin each wall to the voxels its surface crosses (default), or keep every "
                 "voxel with a point (a slab as thick as the points' scatter, in which a scan "
                 "slides)");
-  cmd->add_flag("--quiet", args->options.quiet, "Only the result line");
+  cmd->add_flag("--quiet", args->quiet, "Only the result line");
   add_threads_option(*cmd, args->threads);
   cmd->callback([args] { run_map3d(*args); });
 }

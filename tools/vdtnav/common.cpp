@@ -13,29 +13,12 @@
 
 namespace vdtnav::tools {
 
-LoadedMap load_map(const std::string& yaml_path) {
-  LoadedMap m;
-  if (mapping::is_uncertain_map_file(yaml_path)) {
-    const auto t0 = std::chrono::steady_clock::now();
-    m.uncertain =
-        std::make_shared<const mapping::UncertainMapFile>(mapping::load_uncertain_map(yaml_path));
-    m.ros.cells = m.uncertain->occupancy;
-    m.ros.metadata.resolution = m.ros.cells.resolution();
-    m.ros.metadata.origin =
-        Eigen::Vector3d(m.ros.cells.frame().origin().x(), m.ros.cells.frame().origin().y(),
-                        m.ros.cells.frame().yaw());
-    m.ros.image_path = yaml_path;
-    m.occupancy = occupancy(m.ros);
-    m.vdt = std::make_unique<VdtMap2>(m.uncertain->map.to_vdt_map(m.ros.cells.resolution()));
-    m.build_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    return m;
-  }
-  m.ros = load_ros_map(yaml_path);
-  m.occupancy = occupancy(m.ros);
-  const auto t0 = std::chrono::steady_clock::now();
-  m.vdt = std::make_unique<VdtMap2>(VdtMap2::build(m.occupancy));
-  m.build_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  return m;
+LoadedMap load_map2(const std::string& path) { return load_map(path, MapLoadOptions{}, 2); }
+
+std::function<void(const std::string&)> say_on_stderr(const std::string& tag) {
+  return [tag](const std::string& line) {
+    std::fprintf(stderr, "[%s] %s\n", tag.c_str(), line.c_str());
+  };
 }
 
 eval::Trajectory2 load_trajectory2(const std::string& tum_path) {

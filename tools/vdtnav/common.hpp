@@ -5,6 +5,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include <functional>
 #include <limits>
 #include <memory>
 #include <set>
@@ -16,24 +17,16 @@
 #include "vdtnav/io/carmen_log.hpp"
 #include "vdtnav/io/ros_map.hpp"
 #include "vdtnav/map/vdt_map.hpp"
-#include "vdtnav/mapping/uncertain_map_file.hpp"
+#include "vdtnav/map_files/load_map.hpp"
 
 namespace vdtnav::tools {
 
-/// \brief A ROS map with the grids the localizers need.
-struct LoadedMap {
-  RosMap ros;
-  OccupancyGrid<2> occupancy;
-  std::unique_ptr<VdtMap2> vdt;
-  double build_seconds = 0.0;  ///< time to build the VDT map
-  /// An uncertain map file's map (`vdtnav map --uncertain`); null for a ROS map.
-  std::shared_ptr<const mapping::UncertainMapFile> uncertain;
-};
+/// \brief The 2D map of `localize --map`: a map_server map (MAP.yaml), an uncertain map file
+/// (PREFIX.umap) or a saved 2D VDT map (.vdt), by vdtnav::load_map. \throws vdtnav::Error.
+[[nodiscard]] LoadedMap load_map2(const std::string& path);
 
-/// \brief Loads MAP.yaml and builds its VDT map, or an uncertain map file (PREFIX.umap): its
-/// occupancy rendering as the occupancy grid, the fitted field sampled at the rendering's
-/// resolution as the VDT map. \throws vdtnav::Error.
-[[nodiscard]] LoadedMap load_map(const std::string& yaml_path);
+/// \return what MapLoadOptions::say prints: `[tag] line` on stderr.
+[[nodiscard]] std::function<void(const std::string&)> say_on_stderr(const std::string& tag);
 
 /// \brief A TUM file as a planar trajectory (z, roll and pitch ignored).
 [[nodiscard]] eval::Trajectory2 load_trajectory2(const std::string& tum_path);

@@ -24,6 +24,7 @@
 #include "common.hpp"
 #include "exit_status.hpp"
 #include "vdtnav/core/error.hpp"
+#include "vdtnav/map_files/load_map.hpp"
 
 int main(int argc, char** argv) {
   CLI::App app{"vdtnav: robot localization on Vector Distance Transform maps"};
@@ -51,6 +52,9 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "vdtnav: %s\n", e.what());
     return kExitNotLocalized;
   } catch (const UsageError& e) {  // an option's value or a combination out of its domain
+    std::fprintf(stderr, "vdtnav: error: %s\n", e.what());
+    return kExitUsage;
+  } catch (const vdtnav::MapOptionError& e) {  // the same, found by the map loader
     std::fprintf(stderr, "vdtnav: error: %s\n", e.what());
     return kExitUsage;
   } catch (const std::exception& e) {  // files missing, unreadable or not in their format;

@@ -12,6 +12,19 @@
 
 namespace vdtnav::tools {
 
+/// \return whether this build draws figures (vdtnav::viz, which needs OpenCV, was built).
+/// Without it (plots_without_viz.cpp) every plot_ function throws ConfigError; the commands
+/// refuse --plot when they parse it, with plot_option_check().
+[[nodiscard]] bool plots_available();
+
+/// \return "" when plots_available(), else the reason --plot cannot be given (a CLI11 check).
+[[nodiscard]] inline std::string plot_option_check(const std::string& /*prefix*/) {
+  return plots_available() ? std::string()
+                           : std::string(
+                                 "--plot needs OpenCV, and this vdtnav was built without "
+                                 "it (install libopencv-dev and rebuild)");
+}
+
 /// \brief One trajectory to draw.
 struct PlotTrack {
   std::string label;

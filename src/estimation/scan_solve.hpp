@@ -1,8 +1,8 @@
 #pragma once
-// The Ceres backend of VdtOptimizerT (thesis 3.2, Algorithm 1's OPTIMIZE): the pose's parameter
-// block per dimension, the settings shared by the solves, one solve and the Cauchy IRLS passes.
-
-#include <ceres/manifold.h>
+// The solves of VdtOptimizerT (thesis 3.2, Algorithm 1's OPTIMIZE): the pose's parameter block
+// per dimension, the settings shared by the solves, one solve and the Cauchy IRLS passes. The
+// dense solver (scan_lm.hpp) needs Eigen only; Ceres, the optional backend, is behind
+// run_ceres_solver (scan_cost.cpp, or without_ceres.cpp when vdtnav is built without it).
 
 #include <cmath>
 #include <vector>
@@ -10,7 +10,7 @@
 #include <Eigen/Core>
 
 #include "scan_lm.hpp"
-#include "se3_manifold.hpp"
+#include "se3_parameters.hpp"
 #include "vdtnav/core/pose2.hpp"
 #include "vdtnav/core/pose3.hpp"
 #include "vdtnav/core/traits.hpp"
@@ -20,8 +20,8 @@
 
 namespace vdtnav::detail {
 
-/// The Ceres parameter block of a pose: its size, the pose it holds, the manifold, and how a
-/// Jacobian in the pose perturbation of PoseTraits<Dim> becomes a Jacobian in the block.
+/// The parameter block of a pose in a solve: its size and the pose it holds (scan_cost.cpp adds
+/// the Ceres manifold and how a Jacobian in the pose perturbation becomes one in the block).
 template <int Dim>
 struct Parameterization;
 
@@ -38,17 +38,9 @@ struct Parameterization<2> {
   static Pose2 result(const double* x, const Pose2& /*guess*/, bool /*four_dof*/) {
     return Pose2(x[0], x[1], wrap_angle(x[2]));
   }
-  static ceres::Manifold* manifold(bool /*four_dof*/) { return nullptr; }
-  struct Jacobian {
-    Jacobian(const double* /*x*/, bool /*four_dof*/) {}
-    template <int Rows>
-    void operator()(const Eigen::Matrix<double, Rows, 3>& d, double* out) const {
-      Eigen::Map<Eigen::Matrix<double, Rows, 3, Eigen::RowMajor>>{out} = d;
-    }
-  };
 };
 
-/// 3D: (quaternion, t) on Se3LeftManifold, or Se3YawManifold in the 4-DOF mode.
+/// 3D: (quaternion, t), se3_parameters.hpp.
 template <>
 struct Parameterization<3> {
   static constexpr int kAmbient = 7;
@@ -67,16 +59,9 @@ struct Parameterization<3> {
     }
     return p;
   }
-  /// Stateless, shared by every problem (not owned by them).
-  static ceres::Manifold* manifold(bool four_dof) {
-    static Se3LeftManifold se3;
-    static Se3YawManifold yaw;
-    return four_dof ? static_cast<ceres::Manifold*>(&yaw) : &se3;
-  }
-  using Jacobian = Se3AmbientJacobian;
 };
 
-/// What every Ceres solve of one optimizer shares.
+/// What every solve of one optimizer shares.
 struct SolveSetup {
   ScanSolver solver = ScanSolver::kCeres;
   TrustRegion trust_region = TrustRegion::kLevenbergMarquardt;
@@ -105,12 +90,27 @@ double disparity_variance(const VdtSensorModelT<Dim>& model, const ObservationSe
 }
 
 /// One solve of the readings in `beams` from x (updated in place), weighted by sqrt_w (empty: 1),
-/// with the prior term when `prior` is given.
+/// with the prior term when `prior` is given: the dense solver, or Ceres's.
 template <int Dim>
 ScanLmSummary run_solver(const VdtSensorModelT<Dim>& model, const ObservationSet<Dim>& scan,
                          const std::vector<int>& beams, const std::vector<double>& sqrt_w,
                          RobustLoss loss, double loss_scale, const SolveSetup& setup,
                          const PosePrior<Dim>* prior, double* x);
+
+/// run_solver's Ceres backend (scan_cost.cpp); throws ConfigError when vdtnav is built without
+/// Ceres (without_ceres.cpp).
+template <int Dim>
+ScanLmSummary run_ceres_solver(const VdtSensorModelT<Dim>& model, const ObservationSet<Dim>& scan,
+                               const std::vector<int>& beams, const std::vector<double>& sqrt_w,
+                               RobustLoss loss, double loss_scale, const SolveSetup& setup,
+                               const PosePrior<Dim>* prior, double* x);
+
+/// The explicit instantiation of run_ceres_solver<Dim> (scan_cost.cpp, without_ceres.cpp).
+#define VDTNAV_INSTANTIATE_RUN_CERES_SOLVER(Dim)                                                \
+  template ScanLmSummary run_ceres_solver<Dim>(                                                 \
+      const VdtSensorModelT<Dim>&, const ObservationSet<Dim>&, const std::vector<int>&,         \
+      const std::vector<double>&, RobustLoss, double, const SolveSetup&, const PosePrior<Dim>*, \
+      double*)
 
 /// Iteratively reweighted least squares with a Cauchy loss of the given scale: each pass fixes
 /// the weights w_i = 1 / (1 + |d_i|^2 / scale^2) at the current estimate and solves.
