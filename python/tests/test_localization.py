@@ -1,5 +1,6 @@
 """2D and 3D localization: equal to the C++ API on the same inputs, settings, errors, the GIL."""
 import os
+import subprocess
 import sys
 import threading
 import time
@@ -273,3 +274,23 @@ def test_evaluation_against_hand_computed_values():
     t[0, 3] = 0.1
     value, dof = vdtnav.nees(t, np.eye(4), c6, return_dof=True)
     assert dof == 4 and value == pytest.approx(1.0)
+
+
+def test_a_saved_3d_vdt_map_loads_as_the_map_it_was_built_from(tmp_path):
+    # `vdtnav map3d` saves the cloud's map; load_map (the library's, as the CLI loads it) reads
+    # the .vdt back as a Map3 whose lookups are the cloud's own map's.
+    cli = os.environ.get("VDTNAV_CLI")
+    if not cli:
+        pytest.skip("VDTNAV_CLI not set (run through ctest)")
+    rng = np.random.default_rng(5)
+    write_cloud(tmp_path / "map.csv", room3d_points(rng, 20000))
+    subprocess.run([cli, "map3d", "--map", str(tmp_path / "map.csv"), "--resolution", "0.1",
+                    "--out", str(tmp_path / "map.vdt"), "--quiet"], check=True)
+    built = vdtnav.load_map(str(tmp_path / "map.csv"), resolution=0.1)
+    saved = vdtnav.load_map(str(tmp_path / "map.vdt"))
+    assert isinstance(saved, vdtnav.Map3) and not saved.sparse
+    assert saved.resolution == built.resolution
+    p = rng.uniform([0.5, 0.5, 0.5], [5.5, 4.5, 2.5], size=(300, 3))
+    np.testing.assert_array_equal(saved.lookup(p).value, built.lookup(p).value)
+    with pytest.raises(vdtnav.ConfigError, match="resolution"):
+        vdtnav.load_map(str(tmp_path / "map.vdt"), resolution=0.2)
