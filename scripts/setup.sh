@@ -2,7 +2,7 @@
 # Installs vdtnav's build dependencies from Debian (idempotently: only what is missing; as root
 # without sudo, with sudo otherwise), then configures and builds one configuration.
 #
-#   scripts/setup.sh [release|asan|fuzz [TARGET...]]   default: release
+#   scripts/setup.sh [release|asan|fuzz] [TARGET...]   default: release
 #   (the targets given, default all of them; fuzz: default all the libFuzzer targets;
 #   scripts/main.sh builds release's vdtnav_main_job: the studies, the CLI and Python only)
 # Builds into build/<config>. Nothing is downloaded but Debian packages.
@@ -41,9 +41,12 @@ case "$config" in
   asan)
     # Sanitized tests only: examples and benchmarks are exercised by the release build.
     # -O1 with line tables only: fast to compile, enough for sanitizer stack traces.
+    # VDTNAV_TEST_ONLY (environment): the tests of these folders of tests/ only, e.g.
+    # "core;map;sensor;io;sim" (scripts/test.sh); unset: every test.
     cmake -S . -B build/asan -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS_DEBUG="-O1 -g1" \
       -DVDTNAV_WERROR=ON -DVDTNAV_SANITIZE=ON -DVDTNAV_BUILD_EXAMPLES=OFF \
-      -DVDTNAV_BUILD_BENCHMARKS=OFF -DVDTNAV_BUILD_FRONTENDS=OFF -DVDTNAV_PYTHON=OFF >/dev/null
+      -DVDTNAV_BUILD_BENCHMARKS=OFF -DVDTNAV_BUILD_FRONTENDS=OFF -DVDTNAV_PYTHON=OFF \
+      -DVDTNAV_TEST_ONLY="${VDTNAV_TEST_ONLY:-}" >/dev/null
     ;;
   fuzz)
     # The parsers' libFuzzer targets only: clang, the library with fuzzer coverage and sanitizers.
