@@ -10,17 +10,20 @@ cd "$(dirname "$0")/.."
 jobs="$(nproc)"
 
 data="${1:-../shared/data}"
+# Each step says when it starts (minutes since this script began): CI allows 90 minutes, the
+# target is 45 (docs/main-job-and-tests.md).
+step() { echo "== $* (at $((SECONDS / 60)) min $((SECONDS % 60)) s)"; }
 
 # The main job's folder goes first: a study that did not run must not pass on old tables, and
 # the figure check (a ctest test, label `studies`) skips until the main job below has written it.
 studies=build/studies
 rm -rf "$studies"
 
-echo "== [1/6] Release build (-Werror) and tests"
+step "[1/6] Release build (-Werror) and tests"
 scripts/setup.sh release
 ctest --test-dir build/release --output-on-failure -j "$jobs"
 
-echo "== [2/6] The studies are tests: the main job (beside the ASan build), its figures checked"
+step "[2/6] The studies are tests: the main job (beside the ASan build), its figures checked"
 # Into a folder of its own (the fresh one above). It runs in the background while the sanitized
 # build compiles and tests on the other core: most of its steps use one core. Its time figures
 # (cpu_ms_max, processor time) are checked against loose ceilings only: the sharing inflates them
@@ -29,7 +32,7 @@ VDTNAV_OUT="$studies" scripts/main.sh "$data" > build/main_job.log 2>&1 &
 main_job=$!
 trap 'if [ -n "$main_job" ]; then kill "$main_job" 2>/dev/null || true; fi' EXIT
 
-echo "== [3/6] ASan + UBSan: the tests of the layers under the estimators"
+step "[3/6] ASan + UBSan: the tests of the layers under the estimators"
 # The tests of core, map, sensor, io and sim (the grids, the distance transforms, the
 # sparse maps and their files, the parsers, the simulators) under AddressSanitizer and
 # UndefinedBehaviorSanitizer, built with only the components they link. The estimators, the
@@ -44,10 +47,10 @@ asan_skip='SparseVdtMap\.(AgreesWithTheDenseMapInsideTheBand|ToleranceIsTight)'
 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
   ctest --test-dir build/asan --output-on-failure -j "$jobs" -E "$asan_skip"
 
-echo "== [4/6] The layers: the Eigen-only build, installed and consumed (scripts/eigen_only.sh)"
+step "[4/6] The layers: the Eigen-only build, installed and consumed (scripts/eigen_only.sh)"
 scripts/eigen_only.sh "$data"
 
-echo "== [5/6] Fuzz targets of the parsers, 3000 inputs each (clang, libFuzzer, ASan + UBSan)"
+step "[5/6] Fuzz targets of the parsers, 3000 inputs each (clang, libFuzzer, ASan + UBSan)"
 # While the main job may still run: both cores stay busy.
 # A fixed seed and input count keep the pass short and bounded; they do not make the inputs the
 # same on every run (libFuzzer's feedback differs from run to run: a clean-clone run found an
@@ -57,7 +60,7 @@ echo "== [5/6] Fuzz targets of the parsers, 3000 inputs each (clang, libFuzzer, 
 # here the file parsers.
 FUZZ_SEED=1 FUZZ_TARGETS="ros_map ros_map_image vdt_map_file carmen_log relations tum_trajectory
   odometry_table point_set pan_tilt_csv camera_calibration camera_poses ros1_bag ros_messages" scripts/fuzz.sh 600 3000
-echo "== [2/6] (continued) the main job's steps, then its figures against tests/studies/expected.yaml"
+step "[2/6] (continued) the main job's steps, then its figures against tests/studies/expected.yaml"
 if ! wait "$main_job"; then
   main_job=""
   tail -n 40 build/main_job.log
@@ -71,7 +74,7 @@ data_abs="$(cd "$data" 2>/dev/null && pwd || echo "$data")"
 VDTNAV_STUDIES_OUT="$PWD/$studies" VDTNAV_STUDIES_DATA="$data_abs" \
   ctest --test-dir build/release -L studies -V --output-on-failure
 
-echo "== [6/6] Benchmarks, smoke mode (one short run each; numbers are not meaningful here)"
+step "[6/6] Benchmarks, smoke mode (one short run each; numbers are not meaningful here)"
 # BM_LocalizeIntelCeres is left out here: a whole Intel run (~50 s) like BM_LocalizeIntel, with
 # Ceres instead of the dense solver that the small Ceres benchmarks already run; and
 # BM_Localize3DSequence: the Riverside map (~40 s, 1 GB) and its 30 scans, which the main job's
@@ -81,4 +84,4 @@ for b in build/release/bench/bench_*; do
   "$b" --benchmark_min_time=0.01 --benchmark_format=console \
     --benchmark_filter='-(BM_LocalizeIntelCeres|BM_Localize3DSequence)'
 done
-echo "== all tests passed"
+step "all tests passed"
