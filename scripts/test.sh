@@ -1,10 +1,10 @@
 #!/usr/bin/env bash
 # The test suite: a Release build with -Wall -Wextra -Wpedantic -Werror and all tests, the main
 # job's studies with their headline figures checked against tests/studies/expected.yaml, the
-# tests of the layers under the estimators again under AddressSanitizer +
-# UndefinedBehaviorSanitizer, the Eigen-only build (Ceres,
-# OpenCV, PCL and OctoMap switched off: the layers), the parsers' fuzz targets for a few seconds
-# each (scripts/fuzz.sh runs them for longer), and the benchmarks in smoke mode.
+# Eigen-only build (Ceres, OpenCV, PCL and OctoMap switched off: the layers), the parsers' fuzz
+# targets under AddressSanitizer + UndefinedBehaviorSanitizer for a few thousand inputs each
+# (scripts/fuzz.sh runs them for longer), and the benchmarks in smoke mode. The whole suite under
+# the sanitizers is scripts/sanitize.sh (about 50 minutes on 2 cores: past CI's budget).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 jobs="$(nproc)"
@@ -19,38 +19,23 @@ step() { echo "== $* (at $((SECONDS / 60)) min $((SECONDS % 60)) s)"; }
 studies=build/studies
 rm -rf "$studies"
 
-step "[1/6] Release build (-Werror) and tests"
+step "[1/5] Release build (-Werror) and tests"
 scripts/setup.sh release
 ctest --test-dir build/release --output-on-failure -j "$jobs"
 
-step "[2/6] The studies are tests: the main job (beside the ASan build), its figures checked"
-# Into a folder of its own (the fresh one above). It runs in the background while the sanitized
-# build compiles and tests on the other core: most of its steps use one core. Its time figures
+step "[2/5] The studies are tests: the main job (in the background), its figures checked"
+# Into a folder of its own (the fresh one above). It runs in the background while the steps
+# below build and run on the other core: most of its steps use one core. Its time figures
 # (cpu_ms_max, processor time) are checked against loose ceilings only: the sharing inflates them
 # (CI measured 2.6x this machine's on one scan).
 VDTNAV_OUT="$studies" scripts/main.sh "$data" > build/main_job.log 2>&1 &
 main_job=$!
 trap 'if [ -n "$main_job" ]; then kill "$main_job" 2>/dev/null || true; fi' EXIT
 
-step "[3/6] ASan + UBSan: the tests of the layers under the estimators"
-# The tests of core, map, sensor, io and sim (the grids, the distance transforms, the
-# sparse maps and their files, the parsers, the simulators) under AddressSanitizer and
-# UndefinedBehaviorSanitizer, built with only the components they link. The estimators, the
-# mapping, the CLI and the front ends are left to the release run above (and the parsers' fuzz
-# targets below): the whole suite sanitized takes ~50 minutes on 2 cores, past CI's budget;
-# `scripts/setup.sh asan` and `ctest --test-dir build/asan` run it (docs/main-job-and-tests.md).
-VDTNAV_TEST_ONLY="core;map;sensor;io;sim" scripts/setup.sh asan vdtnav_tests
-# The sparse map against the dense one everywhere in the band (30-50 s each here) runs in the
-# release build; its class runs here through the batch lookups, the rotated frame and the
-# nearest points.
-asan_skip='SparseVdtMap\.(AgreesWithTheDenseMapInsideTheBand|ToleranceIsTight)'
-ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
-  ctest --test-dir build/asan --output-on-failure -j "$jobs" -E "$asan_skip"
-
-step "[4/6] The layers: the Eigen-only build, installed and consumed (scripts/eigen_only.sh)"
+step "[3/5] The layers: the Eigen-only build, installed and consumed (scripts/eigen_only.sh)"
 scripts/eigen_only.sh "$data"
 
-step "[5/6] Fuzz targets of the parsers, 3000 inputs each (clang, libFuzzer, ASan + UBSan)"
+step "[4/5] Fuzz targets of the parsers, 3000 inputs each (clang, libFuzzer, ASan + UBSan)"
 # While the main job may still run: both cores stay busy.
 # A fixed seed and input count keep the pass short and bounded; they do not make the inputs the
 # same on every run (libFuzzer's feedback differs from run to run: a clean-clone run found an
@@ -60,7 +45,17 @@ step "[5/6] Fuzz targets of the parsers, 3000 inputs each (clang, libFuzzer, ASa
 # here the file parsers.
 FUZZ_SEED=1 FUZZ_TARGETS="ros_map ros_map_image vdt_map_file carmen_log relations tum_trajectory
   odometry_table point_set pan_tilt_csv camera_calibration camera_poses ros1_bag ros_messages" scripts/fuzz.sh 600 3000
-step "[2/6] (continued) the main job's steps, then its figures against tests/studies/expected.yaml"
+step "[5/5] Benchmarks, smoke mode (one short run each, beside the main job: numbers are not meaningful here)"
+# BM_LocalizeIntelCeres is left out here: a whole Intel run (~50 s) like BM_LocalizeIntel, with
+# Ceres instead of the dense solver that the small Ceres benchmarks already run; and
+# BM_Localize3DSequence: the Riverside map (~40 s, 1 GB) and its 30 scans, which the main job's
+# 3D study beside it already runs.
+for b in build/release/bench/bench_*; do
+  [ -x "$b" ] || continue
+  "$b" --benchmark_min_time=0.01 --benchmark_format=console \
+    --benchmark_filter='-(BM_LocalizeIntelCeres|BM_Localize3DSequence)'
+done
+step "[2/5] (continued) the main job's steps, then its figures against tests/studies/expected.yaml"
 if ! wait "$main_job"; then
   main_job=""
   tail -n 40 build/main_job.log
@@ -74,14 +69,4 @@ data_abs="$(cd "$data" 2>/dev/null && pwd || echo "$data")"
 VDTNAV_STUDIES_OUT="$PWD/$studies" VDTNAV_STUDIES_DATA="$data_abs" \
   ctest --test-dir build/release -L studies -V --output-on-failure
 
-step "[6/6] Benchmarks, smoke mode (one short run each; numbers are not meaningful here)"
-# BM_LocalizeIntelCeres is left out here: a whole Intel run (~50 s) like BM_LocalizeIntel, with
-# Ceres instead of the dense solver that the small Ceres benchmarks already run; and
-# BM_Localize3DSequence: the Riverside map (~40 s, 1 GB) and its 30 scans, which the main job's
-# 3D study above already runs.
-for b in build/release/bench/bench_*; do
-  [ -x "$b" ] || continue
-  "$b" --benchmark_min_time=0.01 --benchmark_format=console \
-    --benchmark_filter='-(BM_LocalizeIntelCeres|BM_Localize3DSequence)'
-done
 step "all tests passed"
