@@ -47,7 +47,9 @@ void BM_Localize3DScan(benchmark::State& state) {
   std::vector<ObservationSet3> scans;
   for (const ObservationSet3& s : f.scans)
     scans.push_back(s.subsampled(std::max<std::size_t>(1, s.size() / points)));
-  RecoveringLocalizer3 loc(f.map);  // what vdtnav localize3d runs: with lost detection
+  // The tracker with lost detection, as vdtnav localize3d runs it; the exact-map options (a
+  // generated room: no robust loss, no map-error correlation).
+  RecoveringLocalizer3 loc(f.map, VdtLocalizer3Options{});
   Matrix6d p = Matrix6d::Zero();
   p.diagonal() << 1e-3, 1e-3, 1e-3, 1e-4, 1e-4, 1e-4;
   Vector6d off;
@@ -77,7 +79,7 @@ void BM_Localize3DScanMultiStart(benchmark::State& state) {
   std::vector<ObservationSet3> scans;
   for (const ObservationSet3& s : f.scans)
     scans.push_back(s.subsampled(std::max<std::size_t>(1, s.size() / 2000)));
-  const VdtLocalizer3Options o = LocalizerSettings::localize3d_defaults();
+  const VdtLocalizer3Options o = vdt_localizer3_defaults();
   const VdtOptimizer3 optimizer(f.map, o.optimizer);
   MultiStartOptions ms = o.multi_start;
   ms.enabled = true;

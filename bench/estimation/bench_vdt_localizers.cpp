@@ -84,7 +84,7 @@ BENCHMARK(BM_VdtOptSolve2DCeres)->Unit(benchmark::kMillisecond);
 
 void BM_VdtEkfUpdate2D(benchmark::State& state) {
   const auto& f = fixture();
-  VdtEkfLocalizer ekf(f.map);
+  VdtEkfLocalizer ekf(f.map, VdtEkfOptions{});
   std::size_t k = 0;
   const bench::PerItemTimer timer;
   for (auto _ : state) {

@@ -100,7 +100,7 @@ void BM_Localize3DSequence(benchmark::State& state) {
     state.SkipWithError(s.error.c_str());
     return;
   }
-  const VdtLocalizer3Options o = LocalizerSettings::localize3d_defaults();  // localize3d's
+  const VdtLocalizer3Options o = vdt_localizer3_defaults();  // localize3d's
   std::vector<double> ms, iterations;
   int converged = 0, refused = 0, lost = 0, within = 0;
   double se = 0.0, att_max = 0.0;

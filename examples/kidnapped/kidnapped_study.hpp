@@ -22,7 +22,9 @@ struct Case {
   std::vector<vdtnav::ScanPoints> observations;
   std::vector<vdtnav::Pose2> truth;
   kidnap::Drive drive;                 ///< the drive for the kidnappings (simulated when empty)
-  vdtnav::LocalizerSettings settings;  ///< the localizers' settings (log_settings() for real logs)
+  /// The localizers' settings: exact_map_settings() on the generated floor plan, the defaults
+  /// (log_settings()) on real logs.
+  vdtnav::LocalizerSettings settings = vdtnav::exact_map_settings();
 };
 
 /// The maps: the generated floor plan (`seed`) and, under `data` when found, the hospital section,

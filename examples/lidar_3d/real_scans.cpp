@@ -2,7 +2,7 @@
 // from 0 in name order) registered at their reference poses make the map, as
 // `vdtnav map3d --scans DIR --poses FILE --skip-even` makes it (merged, 0.1 m voxels by default,
 // walls thinned); the even scans are localized on it in order by what `vdtnav localize3d` runs
-// (LocalizerSettings::localize3d_defaults(), in RecoveringLocalizer3), 6-DOF and 4-DOF, each
+// (vdt_localizer3_defaults(), in RecoveringLocalizer3), 6-DOF and 4-DOF, each
 // predicted by an odometry increment drawn from the reference poses with the simulated drive's
 // noise (VdtLocalizer3Options::noisy_odometry: 5 % per metre + 0.02 m/s, 5 % per radian +
 // 0.01 rad/s, and an IMU's roll and pitch for the 4-DOF run), the first from its reference moved
@@ -136,7 +136,7 @@ void run_real_scans(const RealScans& o) {
                sparse ? "sparse" : "dense", map_files.size(), o.dir.c_str(), cells.x(), cells.y(),
                cells.z(), o.resolution, std::chrono::duration<double>(Clock::now() - m0).count());
 
-  VdtLocalizer3Options o6 = LocalizerSettings::localize3d_defaults();
+  VdtLocalizer3Options o6 = vdt_localizer3_defaults();
   // A sparse map has no coarse levels to widen the basin: the scans solved alone (until one is
   // accepted) start from around the guess too (`localize3d --multi-start`); on libpointmatcher's
   // car pair, a start 2.2 deg off in yaw otherwise stops 1.3 deg off.

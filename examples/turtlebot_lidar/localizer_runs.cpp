@@ -45,7 +45,7 @@ std::vector<Trace> run_localizers(const VdtMap2& vdt, const OccupancyGrid<2>& oc
   uo.noise = eo.noise;
   ParticleFilterOptions po;
   po.seed = run_seed;
-  locs.push_back(std::make_unique<VdtOptimizationLocalizer>(vdt));
+  locs.push_back(std::make_unique<VdtOptimizationLocalizer>(vdt, VdtOptimizerOptions{}));
   locs.push_back(std::make_unique<VdtEkfLocalizer>(vdt, eo));
   locs.push_back(std::make_unique<UdtOptimizationLocalizer>(occ, uo));
   locs.push_back(std::make_unique<UdtEkfLocalizer>(occ, uo));

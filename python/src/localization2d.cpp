@@ -143,9 +143,13 @@ void bind_localization2d(py::module_& m) {
       "Every localizer setting (docs/settings.md; `vdtnav localize --print-config`). Read from "
       "YAML or a dict with the settings file's sections and keys: unknown keys, wrong types and "
       "non-finite numbers raise ConfigError naming the key.")
-      .def(py::init<>(), "The library's defaults (simulated scans on exact maps).")
-      .def_static("log", &log_settings,
-                  "`vdtnav localize`'s defaults: real logs on maps drawn from scans.")
+      .def(py::init<>(),
+           "The defaults (`vdtnav localize`'s, the C++ constructors', the ROS node's): real logs "
+           "on maps drawn from scans.")
+      .def_static("log", &log_settings, "The defaults, by name: the same as Settings().")
+      .def_static("exact_map", &exact_map_settings,
+                  "The thesis's localizers on an exact map (generated floor plans): no robust "
+                  "loss, 25 iterations, no map-error correlation, the velocity motion model.")
       .def_static("cloud", &cloud_settings, "`vdtnav localize3d`'s defaults: real 3D clouds.")
       .def_static(
           "load",

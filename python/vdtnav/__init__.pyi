@@ -218,10 +218,13 @@ class Settings:
     non-finite numbers raise ConfigError naming the key."""
 
     def __init__(self) -> None:
-        """The library's defaults (simulated scans on exact maps)."""
+        """The defaults (`vdtnav localize`'s, the C++ constructors', the ROS node's): real logs on maps drawn from scans."""
     @staticmethod
     def log() -> Settings:
-        """`vdtnav localize`'s defaults: real logs on maps drawn from scans."""
+        """The defaults, by name: the same as Settings()."""
+    @staticmethod
+    def exact_map() -> Settings:
+        """The thesis's localizers on an exact map (generated floor plans): no robust loss, 25 iterations, no map-error correlation, the velocity motion model."""
     @staticmethod
     def cloud() -> Settings:
         """`vdtnav localize3d`'s defaults: real 3D clouds."""

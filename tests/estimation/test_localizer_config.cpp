@@ -37,7 +37,7 @@ LocalizerSettings changed() {
   s.vdt_opt.search.max_beams = 123;
   s.vdt_opt.search.odometry_noise.a_tt = 0.07;
   s.vdt_opt.bridge.enabled = false;
-  s.vdt_ekf.motion = MotionModelKind::kOdometryIncrement;
+  s.vdt_ekf.motion = MotionModelKind::kVelocity;  // the defaults' is the odometry increment
   s.vdt_ekf.noise.floor_r = 2e-3;
   s.vdt_ekf.start.loss = RobustLoss::kCauchy;
   s.vdt_ekf.start.search.window_yaw = 0.45;
@@ -292,7 +292,7 @@ LocalizerSettings sensors_that_differ() {
 
 TEST(LocalizerConfigSharedSensor, ThePrintedFileReadsBackToTheSameSettings) {
   for (const LocalizerSettings& s :
-       {LocalizerSettings{}, log_settings(), cloud_settings(), sensors_that_differ(), changed()}) {
+       {exact_map_settings(), log_settings(), cloud_settings(), sensors_that_differ(), changed()}) {
     const std::string yaml = localizer_settings_yaml(s);
     // The shared block is printed once at the top level.
     EXPECT_EQ(yaml.find("\nsensor:"), yaml.rfind("\nsensor:"));

@@ -174,7 +174,7 @@ TEST_P(Kidnapped, NoFalseAlarmThenLostAndReacquiredAtTheRightPose) {
   const auto& w = test::world();
   const Drive& d = drive();
   ASSERT_GE(d.scans.size(), 600U);
-  const LocalizerSettings settings;  // make_localizer's default: recovery on
+  const LocalizerSettings settings = exact_map_settings();  // a generated map; recovery on
   std::unique_ptr<Localizer2D> loc = make_localizer(GetParam(), w.map, w.plan.occupancy, settings);
   ASSERT_NE(dynamic_cast<RecoveringLocalizer*>(loc.get()), nullptr);
   loc->reset(d.truth[0], Eigen::Vector3d(0.01, 0.01, 0.0025).asDiagonal());
@@ -224,7 +224,7 @@ TEST_P(Kidnapped, NoFalseAlarmThenLostAndReacquiredAtTheRightPose) {
 TEST_P(Kidnapped, WithoutRecoveryTheLossIsReportedAndNothingElsewhereConverges) {
   const auto& w = test::world();
   const Drive& d = drive();
-  LocalizerSettings settings;
+  LocalizerSettings settings = exact_map_settings();
   settings.recovery.recover = false;
   std::unique_ptr<Localizer2D> loc = make_localizer(GetParam(), w.map, w.plan.occupancy, settings);
   loc->reset(d.truth[0], Eigen::Vector3d(0.01, 0.01, 0.0025).asDiagonal());
@@ -426,7 +426,7 @@ TEST(RecoveringLocalizer, APlaceTheMapLacksIsNoEvidenceAgainstTheTrack) {
     }
   }
   const VdtMap2 map = VdtMap2::build(part);
-  const LocalizerSettings settings;
+  const LocalizerSettings settings = exact_map_settings();
   std::unique_ptr<Localizer2D> b =
       make_localizer("vdt-opt", map, part, settings, MapKnowledge(cells));
   std::unique_ptr<Localizer2D> all_known = make_localizer("vdt-opt", map, part, settings);

@@ -61,12 +61,12 @@ LocalizationResult track(Localizer& loc, Pose2& truth) {
 
 TEST(UdtLocalizers, BothTrackAShortRunAndOnlyTheEkfReportsACovariance) {
   Pose2 truth;
-  UdtOptimizationLocalizer opt(test::world().plan.occupancy);
+  UdtOptimizationLocalizer opt(test::world().plan.occupancy, UdtOptions{});
   const LocalizationResult a = track(opt, truth);
   EXPECT_EQ(opt.name(), "udt-opt");
   EXPECT_FALSE(a.has_covariance);
   EXPECT_LT(pose_error(a.pose, truth).head<2>().norm(), 0.03);
-  UdtEkfLocalizer ekf(test::world().plan.occupancy);
+  UdtEkfLocalizer ekf(test::world().plan.occupancy, UdtOptions{});
   const LocalizationResult b = track(ekf, truth);
   EXPECT_EQ(ekf.name(), "udt-ekf");
   EXPECT_TRUE(b.has_covariance);

@@ -314,7 +314,7 @@ TEST(VdtOptimizerInput, EmptyNanAndFullyGatedScansSayWhy) {
 }
 
 TEST(VdtOptimizationLocalizer, FollowsOdometryAndKeepsThePredictionWithoutAScan) {
-  VdtOptimizationLocalizer loc(world().map);
+  VdtOptimizationLocalizer loc(world().map, VdtOptimizerOptions{});
   const Pose2 start = test::tour_pose(2);
   loc.reset(start, Eigen::Matrix3d::Identity() * 1e-4);
   OdometryStep odo;

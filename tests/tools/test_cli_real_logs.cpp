@@ -15,8 +15,11 @@
 #include <vector>
 
 #include "cli_runner.hpp"
+#include "vdtnav/estimation/localizer_factory.hpp"
 #include "vdtnav/io/carmen_log.hpp"
+#include "vdtnav/io/log_odometry.hpp"
 #include "vdtnav/io/tum_trajectory.hpp"
+#include "vdtnav/map_files/load_map.hpp"
 
 namespace vdtnav {
 namespace {
@@ -67,6 +70,64 @@ void expect_recovery_changes_nothing(const fs::path& d, const std::string& args,
   EXPECT_EQ(read_all(on), read_all(off)) << tag << ": recovery changed a track nothing lost";
 }
 
+/// The README's C++ snippet (load_map, make_localizer with the defaults, reset, update) on MAP
+/// and the raw log's scans up to `to`, from `start` with `vdtnav localize`'s --init-sigma and
+/// --sigma-range: one TUM line a scan, as `localize --all-poses` writes them.
+std::vector<std::string> readme_snippet_poses(const fs::path& map_yaml, const fs::path& raw_log,
+                                              double to, const Pose2& start) {
+  // As `localize` reads a log: no-return readings dropped, the window, the log's odometry.
+  CarmenLogOptions lo;
+  lo.max_range = 80.0;
+  CarmenLog log = load_carmen_log(raw_log.string(), lo);
+  const double no_return = detect_no_return_range(log);
+  for (CarmenLaser& l : log.lasers) {
+    if (std::isfinite(no_return) && no_return < l.scan.range_max) l.scan.range_max = no_return;
+  }
+  std::vector<std::size_t> idx;
+  std::vector<double> times;
+  for (std::size_t i = 0; i < log.lasers.size(); ++i) {
+    if (log.lasers[i].time <= to) {
+      idx.push_back(i);
+      times.push_back(log.lasers[i].time);
+    }
+  }
+  const std::vector<OdometryStep> steps = odometry_steps(times, log_odometry(log, idx).poses);
+
+  // The README's lines (TheReadmeShowsTheseLines below checks that it still does).
+  const vdtnav::LoadedMap m = vdtnav::load_map(map_yaml.string());
+  const auto loc = vdtnav::make_localizer("vdt-opt", *m.vdt, m.occupancy,  // Algorithm 1
+      vdtnav::LocalizerSettings{}, vdtnav::MapKnowledge(m.ros.cells));  // vdtnav localize's
+  loc->reset(start, Eigen::Vector3d(0.01, 0.01, 0.0025).asDiagonal());
+  std::vector<std::string> lines;
+  for (std::size_t k = 0; k < idx.size(); ++k) {
+    LaserScan scan = log.lasers[idx[k]].scan;
+    scan.sigma_range = 0.02;
+    const LocalizationResult r = loc->update(k == 0 ? OdometryStep{} : steps[k], scan);
+    lines.push_back(tum_line(times[k], r.pose));
+  }
+  return lines;
+}
+
+/// The pose lines of a TUM file (comments left out).
+std::vector<std::string> tum_lines(const fs::path& path) {
+  std::vector<std::string> out;
+  std::ifstream in(path);
+  for (std::string line; std::getline(in, line);) {
+    if (!line.empty() && line[0] != '#') out.push_back(line);
+  }
+  return out;
+}
+
+TEST(CliRealLogs, TheReadmeShowsTheseLines) {
+  const std::string readme = read_all(fs::path(VDTNAV_SOURCE_DIR) / "README.md");
+  for (const char* line :
+       {"const vdtnav::LoadedMap m = vdtnav::load_map(",
+        "const auto loc = vdtnav::make_localizer(\"vdt-opt\", *m.vdt, m.occupancy,  // Algorithm 1",
+        "    vdtnav::LocalizerSettings{}, vdtnav::MapKnowledge(m.ros.cells));"}) {
+    EXPECT_TRUE(contains(readme, line)) << "README.md no longer shows: " << line;
+  }
+}
+
 TEST(CliRealLogs, IntelStudyNothingLostAndRecoveryChangesNothing) {
   const fs::path data = fs::path(VDTNAV_DATA_DIR) / "intel-lab";
   if (!fs::exists(data / "intel.relations")) GTEST_SKIP() << "no Intel lab data in " << data;
@@ -96,6 +157,18 @@ TEST(CliRealLogs, IntelStudyNothingLostAndRecoveryChangesNothing) {
                              fixed(p0[0]) + "," + fixed(p0[1]) + "," + fixed(p0[2]);
   for (const char* method : {"vdt-opt", "vdt-ekf"}) {
     expect_recovery_changes_nothing(d, common + " --method " + method, method);
+  }
+  // The README's C++ snippet with the library's defaults is the CLI's run, pose for pose, to
+  // the last bit (issue 58: one set of defaults): the Intel table's vdt-opt row.
+  {
+    const std::vector<std::string> cli = tum_lines(d / "vdt-opt_recover.tum");
+    const std::vector<std::string> lib = readme_snippet_poses(
+        d / "map.yaml", d / "raw.log", corrected.lasers[split - 1].time + 1e-4, p0);
+    ASSERT_EQ(lib.size(), cli.size());
+    std::size_t differ = 0;
+    for (std::size_t k = 0; k < lib.size(); ++k) differ += lib[k] != cli[k];
+    EXPECT_EQ(differ, 0U) << "of " << lib.size() << " poses; the first: "
+                          << (lib.empty() ? "" : lib.front() + " against " + cli.front());
   }
   // The relations' figures of vdt-opt on every pose (the README's and the study's: 58 relations).
   ASSERT_EQ(run_cli("eval --traj " + (d / "vdt-opt_recover.tum").string() + " --relations " +

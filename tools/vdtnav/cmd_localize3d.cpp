@@ -285,7 +285,7 @@ void run_localize3d(const Localize3dArgs& a) {
     throw UsageError("localize3d: --attitude-sigma is for --dof 4 (roll and pitch held)");
   const std::set<LocalizationStatus> accepted_statuses =
       parse_statuses(a.accept_status, "--accept-status");
-  // The settings: localize3d_defaults() (what this command always ran with), the keys of the
+  // The settings: vdt_localizer3_defaults() (what this command always ran with), the keys of the
   // --config file's localize3d: section, then the flags given, which override the file.
   LocalizerSettings settings = cloud_settings();
   if (!a.config.empty()) {

@@ -20,24 +20,29 @@
 
 namespace vdtnav {
 
-/// \brief The options of each method; a factory call uses the one its method needs.
+/// \brief The options of each method; a factory call uses the one its method needs. Its values
+/// are vdtnav's one set of defaults, for maps drawn from real scans and clouds: those of the
+/// localizers' constructors (vdt_opt_defaults(), vdt_ekf_defaults(), udt_defaults(),
+/// vdt_localizer3_defaults()), of `vdtnav localize` and `localize3d` (what `--print-config`
+/// prints), of the Python module and of the ROS node. exact_map_settings(): the thesis's solver
+/// on an exact map (the generated studies').
 struct LocalizerSettings {
-  VdtOptimizerOptions vdt_opt;
-  VdtEkfOptions vdt_ekf;
-  UdtOptions udt;
+  VdtOptimizerOptions vdt_opt = vdt_opt_defaults(2);
+  VdtEkfOptions vdt_ekf = vdt_ekf_defaults();
+  UdtOptions udt = udt_defaults();
   ParticleFilterOptions pf;
-  /// One reading per scan along a rotating beam (thesis ch. 4): pointed by goal selection (4.1).
-  ActiveBeamLocalizerOptions active_ekf;
+  /// One reading per scan along a rotating beam (thesis ch. 4): pointed by goal selection (4.1);
+  /// the prediction from odometry increments.
+  ActiveBeamLocalizerOptions active_ekf = on_odometry(ActiveBeamLocalizerOptions{});
   /// The same sensor kept at the robot's heading (or turning blindly: strategy passive-rotate).
-  ActiveBeamLocalizerOptions passive_ekf = passive_beam();
+  ActiveBeamLocalizerOptions passive_ekf = on_odometry(passive_beam());
   /// Global localization (`vdtnav localize --init global`); its refinement uses vdt_opt.
   GlobalLocalizationOptions global;
   /// Lost detection and re-acquisition (kidnapped robot) around vdt-opt and vdt-ekf; the
   /// acquisitions use `global` (refined with vdt_opt).
   RecoveryOptions recovery;
-  /// The sequential 3D localizer of `vdtnav localize3d` (settings section localize3d:), by
-  /// default what that command ran with before it had keys of its own: localize3d_defaults().
-  VdtLocalizer3Options localize3d = localize3d_defaults();
+  /// The sequential 3D localizer of `vdtnav localize3d` (settings section localize3d:).
+  VdtLocalizer3Options localize3d = vdt_localizer3_defaults();
   /// Threads of the work that runs in parallel (`threads:`, top level; 0: the machine's cores):
   /// the commands apply it with set_threads() (core/parallel.hpp) unless `--threads` is given.
   /// Results are the same for any count.
@@ -48,19 +53,17 @@ struct LocalizerSettings {
     o.strategy = BeamStrategy::kPassiveFixed;
     return o;
   }
-  /// \brief `vdtnav localize3d`'s defaults: the optimizer of cloud_settings() (Cauchy loss, 50
-  /// iterations, map errors shared per 1 m cube, the variance factor), a solution refused when it
-  /// explains less than 30 % of the scan (--min-explained), lost when a window explains no more
-  /// (lost_contradiction 1 - 0.3), multi-start off (--multi-start: with the attitude grid, n = 2),
-  /// the held attitude not estimated (NaN, --attitude-sigma).
-  [[nodiscard]] static VdtLocalizer3Options localize3d_defaults();
+  [[nodiscard]] static ActiveBeamLocalizerOptions on_odometry(ActiveBeamLocalizerOptions o) {
+    o.ekf.motion = MotionModelKind::kOdometryIncrement;
+    return o;
+  }
 };
 
-/// \brief Settings for real logs localized on a map built from scans (the `vdtnav localize`
-/// defaults and the Intel study's): odometry-increment motion models for the filters, and for
-/// vdt-opt a Cauchy loss (scale 0.05 m) against what the map lacks or misplaces, the window
-/// search on every scan explained below 95 %, and up to 50 solver iterations. On the Intel log
-/// this takes the Kuemmerle error from 0.068 m / 1.4 deg (the simulation defaults) to
+/// \brief The defaults, LocalizerSettings{}, by name: real logs localized on a map built from
+/// scans (`vdtnav localize`, the Intel study): odometry-increment motion models for the filters,
+/// and for vdt-opt a Cauchy loss (scale 0.05 m) against what the map lacks or misplaces, the
+/// window search on every scan explained below 95 %, and up to 50 solver iterations. On the Intel
+/// log this takes the Kuemmerle error from 0.068 m / 1.4 deg (exact_map_settings()) to
 /// 0.030 m / 0.48 deg. The map is one drawn from scans: vdt-opt and vdt-ekf consider the map
 /// errors shared by the readings of each 2 m square, with the map builder's pose error at half a
 /// cell (VdtSensorModelOptions::map_correlation_length, map_pose_sigma): relation NEES on the
@@ -69,6 +72,12 @@ struct LocalizerSettings {
 /// drawn from part of a run needs no settings of its own; pass the map's unknown cells
 /// (make_localizer's `knowledge`) so that scans into places it lacks are not held against it.
 [[nodiscard]] LocalizerSettings log_settings();
+
+/// \brief The thesis's localizers on an exact map (a generated floor plan or room, whose walls
+/// are where the map says): each options struct's own values, no robust loss, 25 iterations, no
+/// map-error correlation, the velocity motion model. The generated studies (Table 3.3, the
+/// simulated runs) and the tests on generated maps use these.
+[[nodiscard]] LocalizerSettings exact_map_settings();
 
 /// \brief Settings for 3D LiDAR scans on a map drawn from real scans or clouds (the `vdtnav
 /// localize3d` defaults; its --config keys go over them): vdt-opt with a Cauchy loss (scale
@@ -91,7 +100,7 @@ struct LocalizerSettings {
 /// settings.recovery.detect is off; the baselines (udt-*, pf) and the single-beam filters, whose
 /// one reading per scan says nothing about being lost, do not. `knowledge`: the map's unknown
 /// cells (MapKnowledge(ros_map.cells)), for the lost test; default: everything inside the map is
-/// known (a floor plan).
+/// known (a floor plan). `settings` default: the defaults, those of `vdtnav localize`.
 /// \throws ConfigError for an unknown method (the message lists the known ones).
 [[nodiscard]] std::unique_ptr<Localizer2D> make_localizer(const std::string& method,
                                                           const VdtMap2& vdt,

@@ -40,7 +40,8 @@ namespace vdtnav {
 class RecoveringLocalizer3 final : public RecoveringLocalizerT<3> {
  public:
   /// \throws ConfigError for invalid options. The map must outlive the localizer.
-  RecoveringLocalizer3(const VdtField3& map, const VdtLocalizer3Options& options = {});
+  RecoveringLocalizer3(const VdtField3& map,
+                       const VdtLocalizer3Options& options = vdt_localizer3_defaults());
   /// \brief As above sharing `shared`'s coarse levels (same map): both modes built once.
   RecoveringLocalizer3(const VdtOptimizer3& shared, const VdtLocalizer3Options& options);
 

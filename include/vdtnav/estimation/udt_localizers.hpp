@@ -38,11 +38,15 @@ struct UdtOptions {
   MotionNoise noise;                                    ///< EKF prediction noise
 };
 
+/// \brief The UDT baselines' defaults (their constructors', LocalizerSettings{}'s, `vdtnav
+/// localize`'s): odometry increments for the EKF's prediction. UdtOptions{}: the velocity model.
+[[nodiscard]] UdtOptions udt_defaults();
+
 /// \brief C-LOG-style optimization on the UDT ("udt-opt"): the guess is the last estimate
 /// composed with odometry, then Ceres minimises sum_i DT_u(q_i)^2 over the gated beams.
 class UdtOptimizationLocalizer final : public Localizer2D {
  public:
-  UdtOptimizationLocalizer(const OccupancyGrid<2>& map, const UdtOptions& options = {});
+  UdtOptimizationLocalizer(const OccupancyGrid<2>& map, const UdtOptions& options = udt_defaults());
   void reset(const Pose2& pose, const Eigen::Matrix3d& covariance) override;
   using Localizer2D::update;
   [[nodiscard]] LocalizationResult update(const OdometryStep& odometry,
@@ -58,7 +62,7 @@ class UdtOptimizationLocalizer final : public Localizer2D {
 /// \brief EKF on the UDT ("udt-ekf"): innovation -DT_u(q_i) per beam, information-form update.
 class UdtEkfLocalizer final : public Localizer2D {
  public:
-  UdtEkfLocalizer(const OccupancyGrid<2>& map, const UdtOptions& options = {});
+  UdtEkfLocalizer(const OccupancyGrid<2>& map, const UdtOptions& options = udt_defaults());
   void reset(const Pose2& pose, const Eigen::Matrix3d& covariance) override;
   using Localizer2D::update;
   [[nodiscard]] LocalizationResult update(const OdometryStep& odometry,

@@ -88,11 +88,17 @@ struct VdtEkfOptions {
 void ekf_apply_information(const Eigen::Matrix3d& info, const Eigen::Vector3d& b, Pose2& x,
                            Eigen::Matrix3d& p);
 
+/// \brief vdt-ekf's defaults (its constructor's, LocalizerSettings{}'s, `vdtnav localize`'s):
+/// odometry increments for the prediction (a log's odometry, not a commanded velocity), and the
+/// map errors shared per 2 m square with the map builder's pose error at half a cell, as
+/// vdt_opt_defaults(2). VdtEkfOptions{}: the thesis's velocity model on an exact map.
+[[nodiscard]] VdtEkfOptions vdt_ekf_defaults();
+
 /// \brief The VDT EKF localizer. Name "vdt-ekf".
 class VdtEkfLocalizer final : public Localizer2D {
  public:
   /// \throws ConfigError for invalid options.
-  VdtEkfLocalizer(const VdtMap2& map, const VdtEkfOptions& options = {},
+  VdtEkfLocalizer(const VdtMap2& map, const VdtEkfOptions& options = vdt_ekf_defaults(),
                   std::string name = "vdt-ekf");
   void reset(const Pose2& pose, const Eigen::Matrix3d& covariance) override;
   using Localizer2D::update;

@@ -141,12 +141,21 @@ struct VdtLocalizer3Options {
 /// none, the starts along the axes (tracking), or those and the attitude grid (re-acquiring).
 enum class StartSet { kNone, kAxes, kAttitudeGrid };
 
+/// \brief The sequential 3D localizer's defaults (its constructor's, LocalizerSettings{}'s
+/// `localize3d`, `vdtnav localize3d`'s): the optimizer of vdt_opt_defaults(3), a solution refused
+/// when it explains less than 30 % of the scan (--min-explained), explained at 0.1 m (the
+/// multi-start's distance), lost when a window explains no more (LostDetectionOptions's levels),
+/// multi-start off (--multi-start: with the attitude grid, n = 2), the held attitude not estimated
+/// (NaN, --attitude-sigma). VdtLocalizer3Options{}: the exact-map solver of the generated rooms.
+[[nodiscard]] VdtLocalizer3Options vdt_localizer3_defaults();
+
 /// \brief Algorithm 1 in SE(3) as a Localizer3D (names "vdt-opt-6dof", "vdt-opt-4dof"): the
 /// tracker, without lost detection (make_vdt_localizer3() adds it).
 class VdtOptimizationLocalizer3 final : public Localizer3D {
  public:
   /// \throws ConfigError for invalid options. The map must outlive the localizer.
-  VdtOptimizationLocalizer3(const VdtField3& map, const VdtLocalizer3Options& options = {});
+  VdtOptimizationLocalizer3(const VdtField3& map,
+                            const VdtLocalizer3Options& options = vdt_localizer3_defaults());
   /// \brief As above sharing `shared`'s coarse levels (same map): both modes built once.
   VdtOptimizationLocalizer3(const VdtOptimizer3& shared, const VdtLocalizer3Options& options);
 

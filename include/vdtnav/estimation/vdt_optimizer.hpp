@@ -118,6 +118,20 @@ struct VdtOptimizerOptions {
   LocalScanMapOptions bridge;
 };
 
+/// \brief vdt-opt's defaults: what the localizers' constructors, LocalizerSettings{},
+/// `vdtnav localize` / `localize3d`, the Python module and the ROS node run without a settings
+/// file. The map is one drawn from real scans (the maps users have): a Cauchy loss (scale
+/// 0.05 m) against what the map lacks or misplaces, up to 50 iterations (the IRLS passes need more
+/// than the 25 of an exact map), the map errors shared by the readings of each square (2D: 2 m,
+/// walls) or cube (3D: 1 m) with the map builder's pose error at half a cell
+/// (VdtSensorModelOptions::map_correlation_length, map_pose_sigma); in 2D the window search on
+/// every scan explained below 95 %; in 3D the covariance scaled by the a posteriori variance
+/// factor. VdtOptimizerOptions{} itself is the thesis's solver on an exact map (the generated
+/// studies' exact_map_settings()). Measured: docs/localization-2d.md (Intel) and
+/// docs/localization-3d.md (the real car pair).
+/// \param dimension 2 (LiDAR scans on a 2D map) or 3 (clouds on a 3D map).
+[[nodiscard]] VdtOptimizerOptions vdt_opt_defaults(int dimension);
+
 /// \brief A Gaussian prior on the pose: the cost gains 1/2 e^T information e, e = X (-) mean in the
 /// perturbation of PoseTraits<Dim> (2D: additive with the angle wrapped).
 template <int Dim>
@@ -208,7 +222,8 @@ using VdtOptimizer3 = VdtOptimizerT<3>;
 /// odometry increment (UPDATEGUESS), then OPTIMIZE. Name "vdt-opt".
 class VdtOptimizationLocalizer final : public Localizer2D {
  public:
-  VdtOptimizationLocalizer(const VdtMap2& map, const VdtOptimizerOptions& options = {},
+  VdtOptimizationLocalizer(const VdtMap2& map,
+                           const VdtOptimizerOptions& options = vdt_opt_defaults(2),
                            std::string name = "vdt-opt");
   void reset(const Pose2& pose, const Eigen::Matrix3d& covariance) override;
   using Localizer2D::update;
