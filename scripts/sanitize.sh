@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # The tests under AddressSanitizer + UndefinedBehaviorSanitizer (build/asan: -O1, line tables).
-# Not part of scripts/test.sh: the whole suite sanitized takes about 50 minutes on 2 cores, past
-# CI's budget; there the parsers run sanitized through their fuzz targets. Run it before a
-# release, or on the folders a change touches:
+# Not part of scripts/test.sh: the whole suite sanitized took about half of an 80-minute run of
+# it on 2 cores, past CI's budget; there the parsers run sanitized through their fuzz targets.
+# Run it before a release, or on the folders a change touches:
 #
 #   scripts/sanitize.sh [FOLDERS]   e.g. "map;io" (the tests in those folders of tests/, built
 #                                   with only the components they link); default: every test

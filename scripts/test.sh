@@ -4,7 +4,8 @@
 # Eigen-only build (Ceres, OpenCV, PCL and OctoMap switched off: the layers), the parsers' fuzz
 # targets under AddressSanitizer + UndefinedBehaviorSanitizer for a few thousand inputs each
 # (scripts/fuzz.sh runs them for longer), and the benchmarks in smoke mode. The whole suite under
-# the sanitizers is scripts/sanitize.sh (about 50 minutes on 2 cores: past CI's budget).
+# the sanitizers is scripts/sanitize.sh (about half of an 80-minute run
+# of this script when it was a step here: past CI's budget).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 jobs="$(nproc)"
