@@ -45,7 +45,7 @@ step "[4/5] Fuzz targets of the parsers, 3000 inputs each (clang, libFuzzer, ASa
 # settings-file target needs the whole localization library under clang, the pan-tilt, camera
 # and bag targets their front ends (OpenCV, the ROS bag reader): scripts/fuzz.sh runs those;
 # here the parsers of vdtnav::io, which build with the library's lower layers only (the front
-# ends' clang build beside the main job took most of this step's 10 minutes).
+# ends' clang build is left out of this step, which took 10 minutes beside the main job with it).
 FUZZ_SEED=1 FUZZ_TARGETS="ros_map ros_map_image vdt_map_file carmen_log relations tum_trajectory
   odometry_table point_set" scripts/fuzz.sh 600 3000
 step "[5/5] Benchmarks, smoke mode (one short run each, beside the main job: numbers are not meaningful here)"
