@@ -21,7 +21,7 @@ struct Case {
   vdtnav::OccupancyGrid<2> grid;
   std::vector<vdtnav::ScanPoints> observations;
   std::vector<vdtnav::Pose2> truth;
-  kidnap::Drive drive;                 ///< the drive for the kidnappings (simulated when empty)
+  kidnap::Drive drive;  ///< the drive for the kidnappings (simulated when empty)
   /// The localizers' settings: exact_map_settings() on the generated floor plan, the defaults
   /// (log_settings()) on real logs.
   vdtnav::LocalizerSettings settings = vdtnav::exact_map_settings();

@@ -64,7 +64,8 @@ TEST(SparseLocalization, TheOptimizerFindsTheDenseMapsSolutionAndCovariance) {
 }
 
 TEST(SparseLocalization, TheTrackerFollowsAVlp16DriveOnTheSparseMap) {
-  VdtOptimizationLocalizer3 loc(maps().sparse, VdtLocalizer3Options{});  // the tracker alone (no lost detection)
+  // The tracker alone (no lost detection), with the exact-map options (a generated room).
+  VdtOptimizationLocalizer3 loc(maps().sparse, VdtLocalizer3Options{});
   std::mt19937 rng(6);
   Pose3 prev = pose3_from_xyz_rpy(1.5, 2.5, 1.5, 0.0, 0.0, 0.2);
   Matrix6d p0 = Matrix6d::Identity() * 1e-4;

@@ -98,7 +98,8 @@ std::vector<std::string> readme_snippet_poses(const fs::path& map_yaml, const fs
   // The README's lines (TheReadmeShowsTheseLines below checks that it still does).
   const vdtnav::LoadedMap m = vdtnav::load_map(map_yaml.string());
   const auto loc = vdtnav::make_localizer("vdt-opt", *m.vdt, m.occupancy,  // Algorithm 1
-      vdtnav::LocalizerSettings{}, vdtnav::MapKnowledge(m.ros.cells));  // vdtnav localize's
+                                          vdtnav::LocalizerSettings{},
+                                          vdtnav::MapKnowledge(m.ros.cells));  // vdtnav localize's
   loc->reset(start, Eigen::Vector3d(0.01, 0.01, 0.0025).asDiagonal());
   std::vector<std::string> lines;
   for (std::size_t k = 0; k < idx.size(); ++k) {
