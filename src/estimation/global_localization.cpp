@@ -161,6 +161,13 @@ double GlobalLocalizer::bound(int level, int cx, int cy, const std::vector<Eigen
   double s = 0.0;
   for (const Eigen::Vector2i& d : o) {
     int x = cx + d.x(), y = cy + d.y();
+    // Most windows start inside the map: one unsigned comparison per axis, the same sum.
+    if (static_cast<unsigned>(x) < static_cast<unsigned>(width_) &&
+        static_cast<unsigned>(y) < static_cast<unsigned>(height_)) {
+      s += grid[static_cast<std::size_t>(y) * width_ + x];
+      if (s > stop_at) return s;
+      continue;
+    }
     // A window partly outside the map: its inside part (cells outside count tau^2).
     if (x + span <= 0 || y + span <= 0 || x >= width_ || y >= height_) {
       s += tau2;
