@@ -105,6 +105,10 @@ void localize_intel(benchmark::State& state, ScanSolver solver, double step_sigm
   int lost = 0, flagged = 0, correct_scans = 0, correct_converged = 0, correct_published = 0;
   double max_ms = 0.0;
   std::vector<double> tracked_iterations;  // scans the optimizer's solve alone placed
+  // Where the time goes: the updates that scored global-search boxes or solved re-acquisition
+  // candidates, those that ran a window search (and neither), the rest.
+  double search_s = 0.0, window_s = 0.0, tracked_s = 0.0;
+  int search_scans = 0;
   for (auto _ : state) {
     std::unique_ptr<Localizer2D> loc =
         make_localizer("vdt-opt", *s.vdt, s.occupancy, settings, s.knowledge);
@@ -115,6 +119,8 @@ void localize_intel(benchmark::State& state, ScanSolver solver, double step_sigm
     lost = flagged = correct_scans = correct_converged = correct_published = 0;
     work = {};
     tracked_iterations.clear();
+    search_s = window_s = tracked_s = 0.0;
+    search_scans = 0;
     for (std::size_t k = 0; k < s.scans.size(); ++k) {
       const auto t0 = std::chrono::steady_clock::now();
       const LocalizationResult r = loc->update(s.steps[k], s.scans[k]);
@@ -129,6 +135,14 @@ void localize_intel(benchmark::State& state, ScanSolver solver, double step_sigm
       // A tracked scan: solved from the prediction alone, whatever its status (issue 57).
       if (r.work.window_searches == 0 && r.work.coarse_to_fine == 0)
         tracked_iterations.push_back(r.iterations);
+      if (r.work.search_boxes > 0 || r.work.candidates > 0) {
+        search_s += dt;
+        ++search_scans;
+      } else if (r.work.window_searches > 0) {
+        window_s += dt;
+      } else {
+        tracked_s += dt;
+      }
       const bool correct = (r.pose.head<2>() - s.reference[k].pose.head<2>()).norm() <= 0.1;
       correct_scans += correct;
       correct_converged += correct && r.status == LocalizationStatus::kConverged;
@@ -170,6 +184,12 @@ void localize_intel(benchmark::State& state, ScanSolver solver, double step_sigm
   state.counters["correct_converged_pct"] =
       correct_scans > 0 ? 100.0 * correct_converged / correct_scans : 0.0;
   state.counters["solves_per_scan"] = work.solves / n;
+  // The share of the updates' time in updates with a global search or candidates, in updates
+  // with a window search (and neither), and the global search's share of the scans.
+  const double all_s = search_s + window_s + tracked_s;
+  state.counters["global_search_time_pct"] = all_s > 0.0 ? 100.0 * search_s / all_s : 0.0;
+  state.counters["window_search_time_pct"] = all_s > 0.0 ? 100.0 * window_s / all_s : 0.0;
+  state.counters["global_search_pct"] = 100.0 * search_scans / n;
   state.counters["coarse_to_fine_pct"] = 100.0 * work.coarse_to_fine / n;
   state.counters["window_search_pct"] = 100.0 * work.window_searches / n;
   state.counters["bridged_pct"] = 100.0 * work.bridged / n;
