@@ -161,20 +161,15 @@ double GlobalLocalizer::bound(int level, int cx, int cy, const std::vector<Eigen
   double s = 0.0;
   for (const Eigen::Vector2i& d : o) {
     int x = cx + d.x(), y = cy + d.y();
-    // Most windows start inside the map: one unsigned comparison per axis, the same sum.
-    if (static_cast<unsigned>(x) < static_cast<unsigned>(width_) &&
-        static_cast<unsigned>(y) < static_cast<unsigned>(height_)) {
-      s += grid[static_cast<std::size_t>(y) * width_ + x];
-      if (s > stop_at) return s;
-      continue;
-    }
-    // A window partly outside the map: its inside part (cells outside count tau^2).
-    if (x + span <= 0 || y + span <= 0 || x >= width_ || y >= height_) {
-      s += tau2;
-      if (s > stop_at) return s;
-      continue;
-    }
-    if (x < 0 || y < 0) {
+    // Most windows start inside the map: one unsigned comparison per axis, then the sum.
+    if (static_cast<unsigned>(x) >= static_cast<unsigned>(width_) ||
+        static_cast<unsigned>(y) >= static_cast<unsigned>(height_)) {
+      // A window partly outside the map: its inside part (cells outside count tau^2).
+      if (x + span <= 0 || y + span <= 0 || x >= width_ || y >= height_) {
+        s += tau2;
+        if (s > stop_at) return s;
+        continue;
+      }
       // The pooled grid starts windows at x, y >= 0: a clipped window is a sub-window of the
       // one at 0, whose minimum is no larger — still a lower bound.
       x = std::max(x, 0);
