@@ -106,6 +106,9 @@ void GlobalReacquisition::verify(const OdometryStep& odometry, const ScanPoints&
     // Contradicted as a lost track would be: not the place.
     const bool judged = c.own.judged() > 0 && c.own.judged() >= lo.min_judged * c.own.readings;
     if (c.scans >= 2 && judged && c.own.contradiction() >= lo.lost_contradiction) continue;
+    // In doubt the track is likely right and is withheld while candidates are verified: one that
+    // is not clearly better on its first scan (choose()'s test on that scan) goes at once.
+    if (doubt_search_ && c.scans == 1 && !clearly_better(c.own, c.track)) continue;
     kept.push_back(std::move(c));
   }
   candidates_ = std::move(kept);
@@ -140,8 +143,22 @@ ScanAgreement GlobalReacquisition::judge(const ScanPoints& observations,
   return a.contradiction() < at.contradiction() ? a : at;
 }
 
-std::optional<std::size_t> GlobalReacquisition::choose() {
+bool GlobalReacquisition::clearly_better(const ScanAgreement& own,
+                                         const ScanAgreement& track) const {
   const LostDetectionOptions& lo = options_.lost;
+  const auto judged = [&](const ScanAgreement& a) {
+    return a.judged() > 0 && a.judged() >= lo.min_judged * a.readings;
+  };
+  // The place must be one the map knows: explained as global localization accepts a scan,
+  // and as little contradicted as a found track; and clearly better than the track: explaining
+  // more by verify_margin and, where the map judges the track, contradicted less by as much.
+  const double e = own.explained_fraction(), m = options_.verify_margin;
+  return judged(own) && e >= global_.options().accept_fraction &&
+         own.contradiction() <= lo.found_contradiction && e >= track.explained_fraction() + m &&
+         (!judged(track) || own.contradiction() <= track.contradiction() - m);
+}
+
+std::optional<std::size_t> GlobalReacquisition::choose() {
   std::vector<std::size_t> passed;
   bool pending = false;
   for (std::size_t k = 0; k < candidates_.size(); ++k) {
@@ -150,18 +167,7 @@ std::optional<std::size_t> GlobalReacquisition::choose() {
       pending = true;
       continue;
     }
-    const auto judged = [&](const ScanAgreement& a) {
-      return a.judged() > 0 && a.judged() >= lo.min_judged * a.readings;
-    };
-    // The place must be one the map knows: explained as global localization accepts a scan,
-    // and as little contradicted as a found track; and clearly better than the track: explaining
-    // more by verify_margin and, where the map judges the track, contradicted less by as much.
-    const double e = c.own.explained_fraction(), m = options_.verify_margin;
-    if (judged(c.own) && e >= global_.options().accept_fraction &&
-        c.own.contradiction() <= lo.found_contradiction && e >= c.track.explained_fraction() + m &&
-        (!judged(c.track) || c.own.contradiction() <= c.track.contradiction() - m)) {
-      passed.push_back(k);
-    }
+    if (clearly_better(c.own, c.track)) passed.push_back(k);
   }
   if (pending) return std::nullopt;  // every candidate is judged on the same scans
   if (passed.empty()) {              // none is the place (or none could be judged yet)
@@ -212,9 +218,9 @@ std::optional<GlobalReacquisition::Adopted> GlobalReacquisition::reacquire(
   } else if (candidates_.empty() && wrong) {
     const int leaf = static_cast<int>(
         std::floor(std::log2(std::max(1.0, options_.search_leaf / map_->resolution())) + 1e-9));
-    start_search(detector.lost()
-                     ? global_.start(observations, nullptr, 0.0, leaf)
-                     : global_.start(observations, &r.pose, options_.doubt_margin, leaf));
+    doubt_search_ = !detector.lost();
+    start_search(doubt_search_ ? global_.start(observations, &r.pose, options_.doubt_margin, leaf)
+                               : global_.start(observations, nullptr, 0.0, leaf));
     since_search_ = Pose2::Zero();
   }
   if (const std::optional<GlobalLocalizer::Search> done = advance_search(r)) {
@@ -225,6 +231,17 @@ std::optional<GlobalReacquisition::Adopted> GlobalReacquisition::reacquire(
       Candidate c;
       c.pose = compose(leaf, since_search_);
       if (distinct(c.pose, r.pose, global_.options())) candidates_.push_back(c);
+    }
+    // In doubt, the candidates are screened on this scan at once (those not clearly better than
+    // the track go, as on their first scan) — a screen, not a scan of their verification, which
+    // the search's own scan cannot be.
+    if (doubt_search_ && !candidates_.empty()) {
+      r.work.candidates = static_cast<int>(candidates_.size());
+      verify(OdometryStep{}, observations, at_);
+      for (Candidate& c : candidates_) {
+        c.scans = 0;
+        c.own = c.track = ScanAgreement{};
+      }
     }
   }
   return std::nullopt;

@@ -54,6 +54,9 @@ class GlobalReacquisition final : public Reacquisition<2> {
               const ScanAgreement& track);
   /// The best start of a window around `pose` (guess_search.hpp) for the optimizer.
   [[nodiscard]] Pose2 local_start(const ScanPoints& observations, const Pose2& pose) const;
+  /// Whether a candidate's agreement `own` is clearly better than the track's over the same
+  /// scans (recovering_localizer.hpp).
+  [[nodiscard]] bool clearly_better(const ScanAgreement& own, const ScanAgreement& track) const;
   /// The candidate to adopt, if exactly one distinct place passes (recovering_localizer.hpp).
   [[nodiscard]] std::optional<std::size_t> choose();
   /// Starts `search` (in this thread's budget or on the worker, options_.search_thread).
@@ -75,6 +78,7 @@ class GlobalReacquisition final : public Reacquisition<2> {
   Pose2 since_search_ = Pose2::Zero();             // odometry since the search's scan
   std::vector<Candidate> candidates_;
   std::vector<Pose2> ambiguous_poses_;
+  bool doubt_search_ = false;  // the search, and its candidates, are for a better pose in doubt
   int searches_ = 0, ambiguous_ = 0;
 };
 

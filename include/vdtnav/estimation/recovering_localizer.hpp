@@ -26,7 +26,9 @@
 /// found_contradiction and (where it judges the track) `verify_margin` less than the track —
 /// never on one scan, never while the map agrees with the track (the search and the candidates
 /// are dropped once the window is decided below doubt), and never when another distinct candidate
-/// passes within the ambiguity margin (an ambiguous place: the loss is kept).
+/// passes within the ambiguity margin (an ambiguous place: the loss is kept). In doubt, where the
+/// track is likely right, a candidate not clearly better than it on the scan the search finished
+/// on, or on its first scan of the verification, is dropped at once.
 
 #include <atomic>
 #include <future>
