@@ -86,7 +86,7 @@ std::optional<GlobalLocalizer::Search> GlobalReacquisition::advance_search(Local
 }
 
 void GlobalReacquisition::verify(const OdometryStep& odometry, const ScanPoints& observations,
-                                 const ScanAgreement& track) {
+                                 const ScanAgreement& track, bool screen) {
   const LostDetectionOptions& lo = options_.lost;
   std::vector<Candidate> kept;
   for (Candidate& c : candidates_) {
@@ -100,6 +100,10 @@ void GlobalReacquisition::verify(const OdometryStep& odometry, const ScanPoints&
     const ScanAgreement a =
         scan_agreement(model_, *map_, knowledge_, observations, c.pose, options_.agreement);
     c.last.explained = a.explained_fraction();
+    if (screen) {  // weighed, not counted: kept only if clearly better on this scan
+      if (clearly_better(a, track)) kept.push_back(std::move(c));
+      continue;
+    }
     c.own += a;
     c.track += track;
     ++c.scans;
@@ -237,11 +241,7 @@ std::optional<GlobalReacquisition::Adopted> GlobalReacquisition::reacquire(
     // the search's own scan cannot be.
     if (doubt_search_ && !candidates_.empty()) {
       r.work.candidates = static_cast<int>(candidates_.size());
-      verify(OdometryStep{}, observations, at_);
-      for (Candidate& c : candidates_) {
-        c.scans = 0;
-        c.own = c.track = ScanAgreement{};
-      }
+      verify(OdometryStep{}, observations, at_, /*screen=*/true);
     }
   }
   return std::nullopt;

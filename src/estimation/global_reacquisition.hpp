@@ -50,8 +50,10 @@ class GlobalReacquisition final : public Reacquisition<2> {
     ScanAgreement own, track;  // summed over those scans: at its poses, at the track's
   };
   /// Solves the candidates on this scan and weighs them; drops the failed and the contradicted.
+  /// With `screen`: weighs them on this scan and keeps the clearly better ones (choose()'s test),
+  /// without counting the scan towards their verification.
   void verify(const OdometryStep& odometry, const ScanPoints& observations,
-              const ScanAgreement& track);
+              const ScanAgreement& track, bool screen = false);
   /// The best start of a window around `pose` (guess_search.hpp) for the optimizer.
   [[nodiscard]] Pose2 local_start(const ScanPoints& observations, const Pose2& pose) const;
   /// Whether a candidate's agreement `own` is clearly better than the track's over the same

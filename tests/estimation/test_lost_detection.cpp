@@ -372,9 +372,9 @@ TEST(RecoveringLocalizer, ATrackLeftBehindIsFoundAndNoPoseInDoubtIsPublishedElse
   // The robot drives on while the tracker stays where it was (a track that stopped following).
   // Along the corridor the stuck pose is contradicted little (a window at 0.17 at 1.1 m off,
   // which the baseline absorbs as it rises: no doubt); when the robot turns the window rises into
-  // doubt, and the search near the track must find where the scans are rather than clear the
-  // doubt: no pose published converged while in doubt is more than a metre off, and the track is
-  // re-acquired (again each time it is left behind).
+  // doubt, and the search must find where the scans are: no pose published converged while in
+  // doubt is more than a metre off, and the track is re-acquired (again each time it is left
+  // behind).
   const auto& w = test::world();
   const Drive& d = drive();
   RecoveringLocalizer loc(std::make_unique<StuckTracker>(), w.map, w.plan.occupancy,
