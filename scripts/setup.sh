@@ -15,7 +15,7 @@ packages=(build-essential cmake pkg-config git
           libgtest-dev libgmock-dev libbenchmark-dev libopencv-dev libcli11-dev libceres-dev
           libpcl-dev liboctomap-dev
           librosbag-storage-dev libtf2-dev libsensor-msgs-dev libnav-msgs-dev libgeometry-msgs-dev
-          libtf2-msgs-dev libfastcdr-dev libsqlite3-dev
+          libtf2-msgs-dev libfastcdr-dev libsqlite3-dev libfastrtps-dev cyclonedds-dev cyclonedds-tools
           libroscpp-dev libtf2-ros-dev libstd-srvs-dev libdiagnostic-msgs-dev ros-core
           pybind11-dev python3-dev python3-numpy python3-pytest python3-matplotlib)
 if [ "$config" = fuzz ]; then packages+=(clang-14 libclang-rt-14-dev); fi

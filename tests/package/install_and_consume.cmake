@@ -1,6 +1,6 @@
 # cmake -DBUILD_DIR=... -DWORK_DIR=... -DCONSUMER_DIR=... [-DWITH_CERES=OFF] [-DCONSUME_VIZ=ON]
 #       [-DCONSUME_PCL=ON] [-DCONSUME_OCTOMAP=ON] [-DCONSUME_UAV_CAMERA=ON]
-#       [-DCONSUME_RGBD_GROUND=ON] [-DCONSUME_ROS=ON] [-DROS_NODE=ON] -P install_and_consume.cmake
+#       [-DCONSUME_RGBD_GROUND=ON] [-DCONSUME_ROS=ON] [-DCONSUME_ROS2=ON] [-DROS_NODE=ON] -P install_and_consume.cmake
 # CONSUME_<COMPONENT>: also build and run the consumer of that component (only when it was built).
 # WITH_CERES=OFF (a build without Ceres): the consumer is configured with Ceres, OpenCV, PCL and
 # OctoMap disabled, so it proves the Eigen-only components need none of them, and the
@@ -11,7 +11,7 @@ foreach(flag WITH_CERES CONSUME_VIZ)
     set(${flag} ON)
   endif()
 endforeach()
-foreach(flag CONSUME_PCL CONSUME_OCTOMAP CONSUME_UAV_CAMERA CONSUME_RGBD_GROUND CONSUME_ROS)
+foreach(flag CONSUME_PCL CONSUME_OCTOMAP CONSUME_UAV_CAMERA CONSUME_RGBD_GROUND CONSUME_ROS CONSUME_ROS2)
   if(NOT DEFINED ${flag})
     set(${flag} OFF)
   endif()
@@ -31,10 +31,10 @@ run(${CMAKE_COMMAND} --install ${BUILD_DIR} --prefix ${prefix})
 if(EXISTS ${prefix}/include/vdtnav/camera_sim)
   message(FATAL_ERROR "the study fixture camera_sim was installed: ${prefix}/include/vdtnav/camera_sim")
 endif()
-foreach(layer core map sensor eval io sim estimation mapping viz map_files)
+foreach(layer core map sensor eval io sim estimation mapping viz map_files ros2)
   file(GLOB_RECURSE headers ${prefix}/include/vdtnav/${layer}/*.hpp)
   foreach(h IN LISTS headers)
-    file(STRINGS ${h} private REGEX "^#include <(ceres|opencv2|pcl|octomap|yaml-cpp|ros|tf2|fastcdr|sqlite3|suitesparse|cholmod)")
+    file(STRINGS ${h} private REGEX "^#include <(ceres|opencv2|pcl|octomap|yaml-cpp|ros|tf2|fastcdr|fastdds|fastrtps|sqlite3|suitesparse|cholmod)")
     if(private)
       message(FATAL_ERROR "${h} includes a private dependency: ${private}")
     endif()
@@ -51,7 +51,8 @@ run(${CMAKE_COMMAND} -S ${CONSUMER_DIR} -B ${WORK_DIR}/consumer -DCMAKE_PREFIX_P
     -DCMAKE_BUILD_TYPE=${CMAKE_BUILD_TYPE} ${consumer_flags} -DVDTNAV_CONSUME_VIZ=${CONSUME_VIZ}
     -DVDTNAV_CONSUME_PCL=${CONSUME_PCL} -DVDTNAV_CONSUME_OCTOMAP=${CONSUME_OCTOMAP}
     -DVDTNAV_CONSUME_UAV_CAMERA=${CONSUME_UAV_CAMERA}
-    -DVDTNAV_CONSUME_RGBD_GROUND=${CONSUME_RGBD_GROUND} -DVDTNAV_CONSUME_ROS=${CONSUME_ROS})
+    -DVDTNAV_CONSUME_RGBD_GROUND=${CONSUME_RGBD_GROUND} -DVDTNAV_CONSUME_ROS=${CONSUME_ROS}
+    -DVDTNAV_CONSUME_ROS2=${CONSUME_ROS2})
 run(${CMAKE_COMMAND} --build ${WORK_DIR}/consumer)
 foreach(component core map sensor eval sim map_files)
   run(${WORK_DIR}/consumer/consumer_${component})
@@ -101,6 +102,9 @@ if(CONSUME_RGBD_GROUND)
 endif()
 if(CONSUME_ROS)
   run(${WORK_DIR}/consumer/consumer_ros ${WORK_DIR}/not_a_bag.bag)
+endif()
+if(CONSUME_ROS2)
+  run(${WORK_DIR}/consumer/consumer_ros2)
 endif()
 if(ROS_NODE)
   # What roslaunch does for <node pkg="vdtnav" type="vdtnav_localizer">, with the prefix on the

@@ -38,76 +38,20 @@
 #include <thread>
 #include <vector>
 
+#include "../child_process.hpp"
 #include "vdtnav/io/ros_map.hpp"
 
 namespace {
 
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
+using vdtnav::testing::Child;
+using vdtnav::testing::on_path;
 
 const fs::path kIst = fs::path(VDTNAV_DATA_DIR) / "rosbags" / "ist-pioneer3dx";
 // A start pose the global search names as the best (`vdtnav localize --init global` prints it):
 // the corridors are ambiguous, so the test gives it as amcl's initial_pose_* parameters.
 constexpr double kInit[3] = {-22.86, -7.67, 1.28};
-
-/// A process in its own process group, output to a log; stopped (SIGINT, then SIGKILL) and
-/// reaped when destroyed.
-class Child {
- public:
-  Child(const std::vector<std::string>& argv, const fs::path& log) {
-    pid_ = ::fork();
-    if (pid_ == 0) {
-      ::setpgid(0, 0);
-      const int fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-      if (fd >= 0) {
-        ::dup2(fd, 1);
-        ::dup2(fd, 2);
-      }
-      std::vector<char*> args;
-      for (const std::string& a : argv) args.push_back(const_cast<char*>(a.c_str()));
-      args.push_back(nullptr);
-      ::execvp(args[0], args.data());
-      ::_exit(127);
-    }
-    ::setpgid(pid_, pid_);
-  }
-  Child(const Child&) = delete;
-  Child& operator=(const Child&) = delete;
-  ~Child() { stop(); }
-
-  /// \return whether the process exited within `seconds` (its status in *status).
-  bool wait_exit(double seconds, int* status = nullptr) {
-    const auto end = Clock::now() + std::chrono::duration<double>(seconds);
-    while (pid_ > 0) {
-      int st = 0;
-      const pid_t r = ::waitpid(pid_, &st, WNOHANG);
-      if (r == pid_) {
-        pid_ = -1;
-        if (status != nullptr) *status = st;
-        return true;
-      }
-      if (Clock::now() > end) return false;
-      std::this_thread::sleep_for(std::chrono::milliseconds(20));
-    }
-    return true;
-  }
-
-  void stop() {
-    if (pid_ <= 0) return;
-    ::kill(-pid_, SIGINT);
-    if (!wait_exit(10.0)) {
-      ::kill(-pid_, SIGKILL);
-      wait_exit(10.0);
-    }
-  }
-
- private:
-  pid_t pid_ = -1;
-};
-
-bool on_path(const std::string& tool) {
-  return std::system(("command -v " + tool + " > /dev/null 2>&1").c_str()) == 0;
-}
 
 int free_port() {
   const int s = ::socket(AF_INET, SOCK_STREAM, 0);

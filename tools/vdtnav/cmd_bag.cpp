@@ -77,6 +77,9 @@ void add_bag_command(CLI::App& app) {
       ->required()
       ->check(input_path("bag"));
   info->callback([path] { run_bag_info(*path); });
+#ifdef VDTNAV_CLI_ROS2
+  add_bag_play_command(*cmd);
+#endif
 }
 
 }  // namespace vdtnav::tools

@@ -103,5 +103,7 @@ void add_localize3d_command(CLI::App& app);
 #endif
 /// \brief `vdtnav bag info BAG` (built with the ROS front end).
 void add_bag_command(CLI::App& app);
+/// `bag play` under `bag` (with vdtnav::ros2).
+void add_bag_play_command(CLI::App& bag);
 
 }  // namespace vdtnav::tools

@@ -23,7 +23,6 @@
 #include <tf2_msgs/TFMessage.h>
 #include <tf2_ros/transform_broadcaster.h>
 
-#include <charconv>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -39,7 +38,7 @@
 #include "vdtnav/estimation/localizer_config.hpp"
 #include "vdtnav/estimation/localizer_factory.hpp"
 #include "vdtnav/io/ros_map.hpp"
-#include "vdtnav/ros/live_localizer.hpp"
+#include "vdtnav/ros/node_core.hpp"
 
 namespace vr = vdtnav::ros;
 
@@ -89,48 +88,33 @@ vr::TfMsg to_vdtnav(const tf2_msgs::TFMessage& m) {
   return out;
 }
 
-/// The decimal a float32 field was rounded from (map_server writes the YAML's resolution, 0.05,
-/// as the float 0.0500000007): the shortest decimal that reads back as the same float, so that a
-/// map from the topic has the geometry of the same map loaded from its file.
-double decimal_of(float f) {
-  char buf[32];
-  const auto r = std::to_chars(buf, buf + sizeof buf, f);
-  return std::strtod(std::string(buf, r.ptr).c_str(), nullptr);
+/// An OccupancyGrid as messages.hpp's struct (NodeCore makes the map of it).
+vr::OccupancyGridMsg to_vdtnav(const nav_msgs::OccupancyGrid& m) {
+  vr::OccupancyGridMsg g;
+  g.header.stamp_ns = to_ns(m.header.stamp);
+  g.header.frame_id = m.header.frame_id;
+  g.info.resolution = m.info.resolution;
+  g.info.width = m.info.width;
+  g.info.height = m.info.height;
+  g.info.origin.position = {m.info.origin.position.x, m.info.origin.position.y,
+                            m.info.origin.position.z};
+  g.info.origin.orientation =
+      Eigen::Quaterniond(m.info.origin.orientation.w, m.info.origin.orientation.x,
+                         m.info.origin.orientation.y, m.info.origin.orientation.z);
+  g.data = m.data;
+  return g;
 }
 
-/// The yaw of a planar rotation quaternion (z up).
-double yaw_of(const geometry_msgs::Quaternion& q) {
-  return std::atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z));
-}
-
-/// x, y and yaw are rows and columns 0, 1 and 5 of a 6x6 pose covariance (x, y, z, roll, pitch,
-/// yaw), row-major.
-constexpr int kPlanarIndex[3] = {0, 1, 5};
-
-/// An OccupancyGrid as a map_server map: data row-major from the origin cell, -1 unknown.
-vdtnav::RosMap to_vdtnav(const nav_msgs::OccupancyGrid& m) {
-  const int w = static_cast<int>(m.info.width), h = static_cast<int>(m.info.height);
-  if (w <= 0 || h <= 0 || m.data.size() != static_cast<std::size_t>(w) * h ||
-      !(m.info.resolution > 0.0F)) {
-    throw vdtnav::ConfigError("map: an OccupancyGrid of " + std::to_string(w) + " x " +
-                              std::to_string(h) + " cells of " + std::to_string(m.info.resolution) +
-                              " m holds " + std::to_string(m.data.size()) + " values");
-  }
-  const double yaw = yaw_of(m.info.origin.orientation);
-  const double resolution = decimal_of(m.info.resolution);
-  vdtnav::RosMap map;
-  map.metadata.resolution = resolution;
-  map.metadata.origin = {m.info.origin.position.x, m.info.origin.position.y, yaw};
-  map.cells = vdtnav::Grid<std::int8_t, 2>(
-      Eigen::Vector2i(w, h),
-      vdtnav::GridFrame<2>(
-          resolution, Eigen::Vector2d(m.info.origin.position.x, m.info.origin.position.y), yaw));
-  for (int j = 0; j < h; ++j) {
-    for (int i = 0; i < w; ++i) {
-      map.cells(Eigen::Vector2i(i, j)) = m.data[static_cast<std::size_t>(j) * w + i];
-    }
-  }
-  return map;
+vr::PoseWithCovarianceStampedMsg to_vdtnav(const geometry_msgs::PoseWithCovarianceStamped& m) {
+  vr::PoseWithCovarianceStampedMsg p;
+  p.header.stamp_ns = to_ns(m.header.stamp);
+  p.header.frame_id = m.header.frame_id;
+  p.pose.pose.position = {m.pose.pose.position.x, m.pose.pose.position.y, m.pose.pose.position.z};
+  p.pose.pose.orientation =
+      Eigen::Quaterniond(m.pose.pose.orientation.w, m.pose.pose.orientation.x,
+                         m.pose.pose.orientation.y, m.pose.pose.orientation.z);
+  std::copy(m.pose.covariance.begin(), m.pose.covariance.end(), p.pose.covariance.begin());
+  return p;
 }
 
 /// "x,y,yaw" as a pose; empty: none.
@@ -149,36 +133,40 @@ std::optional<vdtnav::Pose2> parse_pose_param(const std::string& text, const std
 class LocalizerNode {
  public:
   LocalizerNode() : pnh_("~") {
-    pnh_.param<std::string>("global_frame_id", global_frame_, "map");
-    pnh_.param<std::string>("odom_frame_id", options_.odom_frame, "odom");
-    pnh_.param<std::string>("base_frame_id", options_.base_frame, "base_link");
-    pnh_.param("update_min_d", options_.update_min_d, 0.0);
-    pnh_.param("update_min_a", options_.update_min_a, 0.0);
+    vr::NodeOptions o;
+    pnh_.param<std::string>("global_frame_id", o.global_frame, "map");
+    pnh_.param<std::string>("odom_frame_id", o.live.odom_frame, "odom");
+    pnh_.param<std::string>("base_frame_id", o.live.base_frame, "base_link");
+    pnh_.param("update_min_d", o.live.update_min_d, 0.0);
+    pnh_.param("update_min_a", o.live.update_min_a, 0.0);
     double max_range = -1.0;
     pnh_.param("laser_max_range", max_range, -1.0);
-    options_.max_range = max_range > 0.0 ? max_range : std::nan("");
-    pnh_.param("transform_tolerance", transform_tolerance_, 0.1);
-    pnh_.param("tf_broadcast", tf_broadcast_, true);
+    o.live.max_range = max_range > 0.0 ? max_range : std::nan("");
+    pnh_.param("transform_tolerance", o.transform_tolerance, 0.1);
+    pnh_.param("tf_broadcast", o.tf_broadcast, true);
     pnh_.param("use_map_topic", use_map_topic_, false);
-    pnh_.param("first_map_only", first_map_only_, false);
-    pnh_.param("initial_pose_x", initial_pose_[0], 0.0);
-    pnh_.param("initial_pose_y", initial_pose_[1], 0.0);
-    pnh_.param("initial_pose_a", initial_pose_[2], 0.0);
-    pnh_.param("initial_cov_xx", initial_cov_[0], 0.5 * 0.5);
-    pnh_.param("initial_cov_yy", initial_cov_[1], 0.5 * 0.5);
-    pnh_.param("initial_cov_aa", initial_cov_[2], (kPi / 12.0) * (kPi / 12.0));
+    pnh_.param("first_map_only", o.first_map_only, false);
+    pnh_.param("initial_pose_x", o.initial_pose[0], 0.0);
+    pnh_.param("initial_pose_y", o.initial_pose[1], 0.0);
+    pnh_.param("initial_pose_a", o.initial_pose[2], 0.0);
+    Eigen::Vector3d cov;
+    pnh_.param("initial_cov_xx", cov[0], 0.5 * 0.5);
+    pnh_.param("initial_cov_yy", cov[1], 0.5 * 0.5);
+    pnh_.param("initial_cov_aa", cov[2], (kPi / 12.0) * (kPi / 12.0));
+    o.initial_covariance = cov.asDiagonal();
     // vdtnav's own: the settings file, the method, a map file, the scanner's mounting when TF
     // lacks it, the range noise, how far the odometry may be extrapolated to a scan's stamp.
     pnh_.param<std::string>("config", config_, "");
-    pnh_.param<std::string>("method", options_.method, "vdt-opt");
+    pnh_.param<std::string>("method", o.live.method, "vdt-opt");
     pnh_.param<std::string>("map_file", map_file_, "");
     std::string laser_pose;
     pnh_.param<std::string>("laser_pose", laser_pose, "");
-    options_.laser_pose = parse_pose_param(laser_pose, "laser_pose");
-    pnh_.param("sigma_range", options_.sigma_range, 0.02);
-    pnh_.param("odom_extrapolation", options_.odom_extrapolation, 0.0);
-    settings_ = vdtnav::log_settings();
-    if (!config_.empty()) settings_ = vdtnav::load_localizer_config(config_, settings_);
+    o.live.laser_pose = parse_pose_param(laser_pose, "laser_pose");
+    pnh_.param("sigma_range", o.live.sigma_range, 0.02);
+    pnh_.param("odom_extrapolation", o.live.odom_extrapolation, 0.0);
+    vdtnav::LocalizerSettings settings = vdtnav::log_settings();
+    if (!config_.empty()) settings = vdtnav::load_localizer_config(config_, settings);
+    core_ = std::make_unique<vr::NodeCore>(o, settings);
 
     pose_pub_ = nh_.advertise<geometry_msgs::PoseWithCovarianceStamped>("amcl_pose", 10, true);
     status_pub_ = pnh_.advertise<diagnostic_msgs::DiagnosticStatus>("status", 100);
@@ -195,7 +183,7 @@ class LocalizerNode {
         ROS_WARN_THROTTLE(5.0, "vdtnav_localizer: static_map not answering yet; waiting");
         ros::Duration(0.5).sleep();
       }
-      if (ros::ok()) set_map(to_vdtnav(srv.response.map), "service static_map");
+      if (ros::ok()) set_map(vr::to_ros_map(to_vdtnav(srv.response.map)), "service static_map");
     }
     // Subscribed once a map file or the static map is loaded. Queues long enough that a bag
     // played fast loses nothing while a scan is localized.
@@ -208,191 +196,101 @@ class LocalizerNode {
 
  private:
   void set_map(vdtnav::RosMap map, const std::string& source) {
-    const auto t0 = std::chrono::steady_clock::now();
-    const int w = map.cells.size().x(), h = map.cells.size().y();
-    const double res = map.cells.resolution();
-    if (localizer_) {
-      localizer_->set_map(std::move(map));
-    } else {
-      localizer_ = std::make_unique<vr::LiveLocalizer>(std::move(map), settings_, options_);
-      localizer_->set_pose(initial_pose_, initial_cov_.asDiagonal());
-      // What arrived before the map (the latched static transforms above all).
-      for (const auto& [tf, is_static] : early_tf_)
-        publish(localizer_->add_transforms(tf, is_static));
-      early_tf_.clear();
-    }
-    ROS_INFO(
-        "vdtnav_localizer: map from %s, %d x %d cells of %.3f m, VDT built in %.2f s; "
-        "%s%s, starting at (%.3f, %.3f, %.3f)",
-        source.c_str(), w, h, res,
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(),
-        options_.method.c_str(), config_.empty() ? "" : (" with " + config_).c_str(),
-        initial_pose_[0], initial_pose_[1], initial_pose_[2]);
+    publish(core_->set_map(std::move(map), source));
+    ROS_INFO("vdtnav_localizer: %s%s, starting at (%.3f, %.3f, %.3f)",
+             core_->options().live.method.c_str(),
+             config_.empty() ? "" : (" with " + config_).c_str(), core_->options().initial_pose[0],
+             core_->options().initial_pose[1], core_->options().initial_pose[2]);
   }
 
   void on_map(const nav_msgs::OccupancyGrid::ConstPtr& m) {
-    if (first_map_only_ && localizer_) return;
     try {
-      set_map(to_vdtnav(*m), "topic " + map_sub_.getTopic());
+      set_map(vr::to_ros_map(to_vdtnav(*m)), "topic " + map_sub_.getTopic());
     } catch (const vdtnav::Error& e) {
       ROS_ERROR("vdtnav_localizer: map refused: %s", e.what());
     }
   }
 
-  void on_tf(const tf2_msgs::TFMessage::ConstPtr& m) { add_tf(*m, false); }
-  void on_tf_static(const tf2_msgs::TFMessage::ConstPtr& m) { add_tf(*m, true); }
-  void add_tf(const tf2_msgs::TFMessage& m, bool is_static) {
-    if (!localizer_) {
-      if (is_static || early_tf_.size() < 10000) early_tf_.emplace_back(to_vdtnav(m), is_static);
-      return;
-    }
-    publish(localizer_->add_transforms(to_vdtnav(m), is_static));
+  void on_tf(const tf2_msgs::TFMessage::ConstPtr& m) {
+    publish(core_->add_transforms(to_vdtnav(*m), false));
   }
-
+  void on_tf_static(const tf2_msgs::TFMessage::ConstPtr& m) {
+    publish(core_->add_transforms(to_vdtnav(*m), true));
+  }
   void on_scan(const sensor_msgs::LaserScan::ConstPtr& m) {
-    if (!localizer_) {
-      ROS_WARN_THROTTLE(5.0, "vdtnav_localizer: no map yet; scans ignored");
-      return;
-    }
-    arrival_[to_ns(m->header.stamp)] = std::chrono::steady_clock::now();
-    publish(localizer_->add_scan(to_vdtnav(*m)));
+    publish(core_->add_scan(to_vdtnav(*m)));
   }
-
   void on_initial_pose(const geometry_msgs::PoseWithCovarianceStamped::ConstPtr& m) {
-    const std::string frame = vr::strip_slash(m->header.frame_id);
-    if (!frame.empty() && frame != global_frame_) {
-      ROS_WARN("vdtnav_localizer: initial pose in frame '%s' ignored: expected '%s'", frame.c_str(),
-               global_frame_.c_str());
-      return;
-    }
-    const vdtnav::Pose2 pose(m->pose.pose.position.x, m->pose.pose.position.y,
-                             yaw_of(m->pose.pose.orientation));
-    // Rows and columns x, y, yaw of the 6x6 (x, y, z, roll, pitch, yaw).
-    Eigen::Matrix3d cov;
-    for (int r = 0; r < 3; ++r) {
-      for (int c = 0; c < 3; ++c)
-        cov(r, c) = m->pose.covariance[kPlanarIndex[r] * 6 + kPlanarIndex[c]];
-    }
-    if (!localizer_) {
-      initial_pose_ = pose;
-      initial_cov_ = cov.diagonal();
-      return;
-    }
-    try {
-      localizer_->set_pose(pose, cov);
-      ROS_INFO("vdtnav_localizer: initial pose (%.3f, %.3f, %.3f)", pose[0], pose[1], pose[2]);
-    } catch (const vdtnav::Error& e) {
-      ROS_WARN("vdtnav_localizer: initial pose ignored: %s", e.what());
-    }
+    publish(core_->set_initial_pose(to_vdtnav(*m)));
   }
 
   bool on_global(std_srvs::Empty::Request& /*req*/, std_srvs::Empty::Response& /*res*/) {
-    if (!localizer_) return false;
-    localizer_->start_global();
+    if (!core_->start_global()) return false;
     ROS_INFO("vdtnav_localizer: global localization: searching the whole map");
     return true;
   }
 
-  void publish(const std::vector<vr::LiveEstimate>& estimates) {
-    for (const vr::LiveEstimate& e : estimates) {
-      const ros::Time stamp = from_ns(e.stamp_ns);
-      const bool localized = e.event == vr::LiveEstimate::Event::kLocalized;
-      // amcl_pose: the poses of the default outputs (converged, or bridged across a gap of the map
-      // with its grown covariance: vdtnav::published_by_default()).
-      if (localized && vdtnav::published_by_default(e.result.status)) publish_pose(stamp, e);
-      if (tf_broadcast_ && e.has_map_to_odom &&
-          (localized || e.event == vr::LiveEstimate::Event::kSkipped)) {
-        geometry_msgs::TransformStamped t;
-        // amcl's convention: valid transform_tolerance into the future.
-        t.header.stamp = stamp + ros::Duration(transform_tolerance_);
-        t.header.frame_id = global_frame_;
-        t.child_frame_id = options_.odom_frame;
-        t.transform.translation.x = e.map_to_odom[0];
-        t.transform.translation.y = e.map_to_odom[1];
-        t.transform.rotation.z = std::sin(0.5 * e.map_to_odom[2]);
-        t.transform.rotation.w = std::cos(0.5 * e.map_to_odom[2]);
-        broadcaster_.sendTransform(t);
-      }
-      publish_status(stamp, e);
-      if (e.event == vr::LiveEstimate::Event::kNoOdometry) {
-        ROS_WARN_THROTTLE(5.0, "vdtnav_localizer: scan at %.3f not localized: %s", stamp.toSec(),
-                          e.reason.c_str());
-      }
+  void publish(const vr::NodeOutput& out) {
+    for (const std::string& l : out.log) ROS_INFO("vdtnav_localizer: %s", l.c_str());
+    for (const vr::PoseWithCovarianceStampedMsg& p : out.poses) {
+      geometry_msgs::PoseWithCovarianceStamped m;
+      m.header.stamp = from_ns(p.header.stamp_ns);
+      m.header.frame_id = p.header.frame_id;
+      m.pose.pose.position.x = p.pose.pose.position.x();
+      m.pose.pose.position.y = p.pose.pose.position.y();
+      m.pose.pose.orientation.z = p.pose.pose.orientation.z();
+      m.pose.pose.orientation.w = p.pose.pose.orientation.w();
+      std::copy(p.pose.covariance.begin(), p.pose.covariance.end(), m.pose.covariance.begin());
+      pose_pub_.publish(m);
     }
+    for (const vr::TransformStampedMsg& t : out.tf.transforms) {
+      geometry_msgs::TransformStamped m;
+      m.header.stamp = from_ns(t.header.stamp_ns);
+      m.header.frame_id = t.header.frame_id;
+      m.child_frame_id = t.child_frame_id;
+      m.transform.translation.x = t.translation.x();
+      m.transform.translation.y = t.translation.y();
+      m.transform.rotation.z = t.rotation.z();
+      m.transform.rotation.w = t.rotation.w();
+      broadcaster_.sendTransform(m);
+    }
+    for (const vr::NodeStatus& st : out.statuses) publish_status(st);
   }
 
-  void publish_pose(const ros::Time& stamp, const vr::LiveEstimate& e) {
-    geometry_msgs::PoseWithCovarianceStamped p;
-    p.header.stamp = stamp;
-    p.header.frame_id = global_frame_;
-    p.pose.pose.position.x = e.result.pose[0];
-    p.pose.pose.position.y = e.result.pose[1];
-    p.pose.pose.orientation.z = std::sin(0.5 * e.result.pose[2]);
-    p.pose.pose.orientation.w = std::cos(0.5 * e.result.pose[2]);
-    if (e.result.has_covariance) {
-      // Symmetric to the last bit, as consumers of the message assume.
-      const Eigen::Matrix3d c = 0.5 * (e.result.covariance + e.result.covariance.transpose());
-      for (int r = 0; r < 3; ++r) {
-        for (int k = 0; k < 3; ++k)
-          p.pose.covariance[kPlanarIndex[r] * 6 + kPlanarIndex[k]] = c(r, k);
-      }
-    }
-    pose_pub_.publish(p);
-  }
-
-  void publish_status(const ros::Time& stamp, const vr::LiveEstimate& e) {
-    double latency_ms = std::nan("");
-    const auto it = arrival_.find(e.stamp_ns);
-    if (it != arrival_.end()) {
-      latency_ms =
-          std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - it->second)
-              .count();
-      arrival_.erase(arrival_.begin(), std::next(it));
-    }
+  void publish_status(const vr::NodeStatus& st) {
     diagnostic_msgs::DiagnosticStatus s;
     s.name = "vdtnav_localizer";
-    s.hardware_id = options_.method;
-    const bool localized = e.event == vr::LiveEstimate::Event::kLocalized;
-    const vdtnav::LocalizationStatus st = e.result.status;
-    std::string token = localized ? vdtnav::to_string(st) : vr::to_string(e.event);
-    for (char& c : token) c = c == ' ' ? '_' : c;
-    s.message = token;
-    s.level = localized && st == vdtnav::LocalizationStatus::kConverged ? s.OK
-              : localized && (st == vdtnav::LocalizationStatus::kLost ||
-                              st == vdtnav::LocalizationStatus::kDiverged)
-                  ? s.ERROR
-                  : s.WARN;
+    s.hardware_id = core_->options().live.method;
+    s.message = st.token;
+    s.level = st.level == 0 ? s.OK : st.level == 2 ? s.ERROR : s.WARN;
     auto kv = [&s](const std::string& k, const std::string& v) {
       diagnostic_msgs::KeyValue x;
       x.key = k;
       x.value = v;
       s.values.push_back(std::move(x));
     };
-    char buf[64];
-    std::snprintf(buf, sizeof buf, "%.9f", stamp.toSec());
-    kv("stamp", buf);
-    std::snprintf(buf, sizeof buf, "%.4f", localized ? e.result.explained : std::nan(""));
+    char stamp[64], buf[64];
+    std::snprintf(stamp, sizeof stamp, "%.9f", from_ns(st.stamp_ns).toSec());
+    kv("stamp", stamp);
+    std::snprintf(buf, sizeof buf, "%.4f", st.explained);
     kv("explained", buf);
-    std::snprintf(buf, sizeof buf, "%.3f", 1e3 * e.seconds);
+    std::snprintf(buf, sizeof buf, "%.3f", st.processing_ms);
     kv("processing_ms", buf);
-    std::snprintf(buf, sizeof buf, "%.3f", latency_ms);
+    std::snprintf(buf, sizeof buf, "%.3f", st.latency_ms);
     kv("latency_ms", buf);  // scan callback to this message: waiting for odometry included
-    kv("waiting", std::to_string(localizer_->waiting()));
-    if (!e.reason.empty()) kv("reason", e.reason);
+    kv("waiting", std::to_string(st.waiting));
+    if (!st.reason.empty()) kv("reason", st.reason);
     status_pub_.publish(s);
+    if (st.token == "no_odometry") {
+      ROS_WARN_THROTTLE(5.0, "vdtnav_localizer: scan at %s not localized: %s", stamp,
+                        st.reason.c_str());
+    }
   }
 
   ros::NodeHandle nh_, pnh_;
-  std::string global_frame_, config_, map_file_;
-  double transform_tolerance_ = 0.1;
-  bool tf_broadcast_ = true, use_map_topic_ = false, first_map_only_ = false;
-  vdtnav::Pose2 initial_pose_ = vdtnav::Pose2::Zero();
-  Eigen::Vector3d initial_cov_ = Eigen::Vector3d::Zero();
-  vr::LiveLocalizerOptions options_;
-  vdtnav::LocalizerSettings settings_;
-  std::unique_ptr<vr::LiveLocalizer> localizer_;
-  std::vector<std::pair<vr::TfMsg, bool>> early_tf_;
-  std::map<std::int64_t, std::chrono::steady_clock::time_point> arrival_;
+  std::string config_, map_file_;
+  bool use_map_topic_ = false;
+  std::unique_ptr<vr::NodeCore> core_;
   ros::Publisher pose_pub_, status_pub_;
   ros::Subscriber scan_sub_, tf_sub_, tf_static_sub_, initial_pose_sub_, map_sub_;
   ros::ServiceServer global_srv_;

@@ -22,7 +22,8 @@
   [[nodiscard]] PoseStampedMsg decode_pose_stamped(const BagMessage& m);          \
   [[nodiscard]] PoseWithCovarianceStampedMsg decode_pose_with_covariance_stamped( \
       const BagMessage& m);                                                       \
-  [[nodiscard]] ImuMsg decode_imu(const BagMessage& m);
+  [[nodiscard]] ImuMsg decode_imu(const BagMessage& m);                           \
+  [[nodiscard]] OccupancyGridMsg decode_occupancy_grid(const BagMessage& m);
 
 namespace vdtnav::ros::ros1 {
 VDTNAV_ROS_BAG_FORMAT_FUNCTIONS

@@ -43,6 +43,7 @@ VDTNAV_ROS_DISPATCH(TfMsg, decode_tf)
 VDTNAV_ROS_DISPATCH(PoseStampedMsg, decode_pose_stamped)
 VDTNAV_ROS_DISPATCH(PoseWithCovarianceStampedMsg, decode_pose_with_covariance_stamped)
 VDTNAV_ROS_DISPATCH(ImuMsg, decode_imu)
+VDTNAV_ROS_DISPATCH(OccupancyGridMsg, decode_occupancy_grid)
 #undef VDTNAV_ROS_DISPATCH
 
 }  // namespace vdtnav::ros

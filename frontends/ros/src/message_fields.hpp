@@ -1,163 +1,172 @@
 #pragma once
-// The fields of the messages vdtnav reads, in the order of their .msg definitions, over a reader
-// of either wire format: ROS 1 serialization (ros1_serialization.cpp: packed little-endian,
-// Header with seq, time as uint32 sec + nsec) and ROS 2 CDR (ros2_cdr.cpp: aligned, either
-// endianness, Header without seq). The formats differ only in those primitives; the message layouts
-// are the same, so one template decodes both.
+// The fields of the messages vdtnav reads and writes, in the order of their .msg definitions,
+// written once over an Io of any wire format: the readers of ROS 1 serialization
+// (ros1_serialization.cpp: packed little-endian, Header with seq, time as uint32 sec + nsec) and
+// ROS 2 CDR (ros2_cdr.cpp: aligned, either endianness, Header without seq), and the ROS 2 CDR
+// writer (cdr_writer.cpp). The formats differ only in those primitives; the message layouts are
+// the same, so one template decodes both and encodes CDR.
 //
-// A Reader provides get<T>() for a primitive, str() for a string, header() for std_msgs/Header,
-// length(min_element_bytes, field) for a sequence's length (refused when that many elements
-// cannot fit in the bytes left, before anything is allocated), sequence(vector, field) for a
-// sequence of primitives and array(std::array<double, N>) for a fixed float64 array.
+// An Io reads (Io::kWrites false: each call fills its argument in) or writes (kWrites true: the
+// message is const, each call serializes its argument), with the same calls: value(x) for a
+// primitive (bool travels as uint8), str(s) for a string, time(ns) for builtin time, header(h) for
+// std_msgs/Header, sequence(v, field) for a sequence of primitives, size(v, min_element_bytes,
+// field) for the length of a sequence of messages (a reader resizes v, refusing a length whose
+// elements cannot fit in the bytes left before anything is allocated; a writer writes v.size()),
+// and array(a) for a fixed float64 array.
 
 #include <array>
 #include <cstdint>
+#include <type_traits>
 
 #include "vdtnav/ros/messages.hpp"
 
 namespace vdtnav::ros::fields {
 
+/// A message or field as an Io sees it: const when it writes, filled in when it reads.
+template <class Io, class T>
+using Field = std::conditional_t<Io::kWrites, const T, T>;
+
 // geometry_msgs/Vector3 or Point: float64 x, y, z.
-template <class Reader>
-Eigen::Vector3d vector3(Reader& r) {
-  Eigen::Vector3d v;
-  v.x() = r.template get<double>();
-  v.y() = r.template get<double>();
-  v.z() = r.template get<double>();
-  return v;
+template <class Io>
+void vector3(Io& io, Field<Io, Eigen::Vector3d>& v) {
+  io.value(v.x());
+  io.value(v.y());
+  io.value(v.z());
 }
 
 // geometry_msgs/Quaternion: float64 x, y, z, w.
-template <class Reader>
-Eigen::Quaterniond quaternion(Reader& r) {
-  const double x = r.template get<double>(), y = r.template get<double>();
-  const double z = r.template get<double>(), w = r.template get<double>();
-  return Eigen::Quaterniond(w, x, y, z);
+template <class Io>
+void quaternion(Io& io, Field<Io, Eigen::Quaterniond>& q) {
+  io.value(q.x());
+  io.value(q.y());
+  io.value(q.z());
+  io.value(q.w());
 }
 
 // geometry_msgs/Pose: Point position; Quaternion orientation.
-template <class Reader>
-PoseMsg pose(Reader& r) {
-  PoseMsg p;
-  p.position = vector3(r);
-  p.orientation = quaternion(r);
-  return p;
+template <class Io>
+void pose(Io& io, Field<Io, PoseMsg>& p) {
+  vector3(io, p.position);
+  quaternion(io, p.orientation);
 }
 
 // geometry_msgs/PoseWithCovariance: Pose pose; float64[36] covariance.
-template <class Reader>
-PoseWithCovarianceMsg pose_with_covariance(Reader& r) {
-  PoseWithCovarianceMsg p;
-  p.pose = pose(r);
-  r.array(p.covariance);
-  return p;
+template <class Io>
+void pose_with_covariance(Io& io, Field<Io, PoseWithCovarianceMsg>& p) {
+  pose(io, p.pose);
+  io.array(p.covariance);
 }
 
 // sensor_msgs/LaserScan: Header header; float32 angle_min, angle_max, angle_increment,
 // time_increment, scan_time, range_min, range_max; float32[] ranges; float32[] intensities.
-template <class Reader>
-LaserScanMsg laser_scan(Reader& r) {
-  LaserScanMsg s;
-  s.header = r.header();
-  s.angle_min = r.template get<float>();
-  s.angle_max = r.template get<float>();
-  s.angle_increment = r.template get<float>();
-  s.time_increment = r.template get<float>();
-  s.scan_time = r.template get<float>();
-  s.range_min = r.template get<float>();
-  s.range_max = r.template get<float>();
-  r.sequence(s.ranges, "ranges");
-  r.sequence(s.intensities, "intensities");
-  return s;
+template <class Io>
+void laser_scan(Io& io, Field<Io, LaserScanMsg>& s) {
+  io.header(s.header);
+  io.value(s.angle_min);
+  io.value(s.angle_max);
+  io.value(s.angle_increment);
+  io.value(s.time_increment);
+  io.value(s.scan_time);
+  io.value(s.range_min);
+  io.value(s.range_max);
+  io.sequence(s.ranges, "ranges");
+  io.sequence(s.intensities, "intensities");
 }
 
 // sensor_msgs/PointCloud2: Header header; uint32 height, width; PointField[] fields;
 // bool is_bigendian; uint32 point_step, row_step; uint8[] data; bool is_dense.
 // sensor_msgs/PointField: string name; uint32 offset; uint8 datatype; uint32 count.
-template <class Reader>
-PointCloud2Msg point_cloud2(Reader& r) {
-  PointCloud2Msg c;
-  c.header = r.header();
-  c.height = r.template get<std::uint32_t>();
-  c.width = r.template get<std::uint32_t>();
+template <class Io>
+void point_cloud2(Io& io, Field<Io, PointCloud2Msg>& c) {
+  io.header(c.header);
+  io.value(c.height);
+  io.value(c.width);
   // A PointField takes at least 13 bytes: name length, offset, datatype, count.
-  c.fields.resize(r.length(13, "fields"));
-  for (PointFieldMsg& f : c.fields) {
-    f.name = r.str();
-    f.offset = r.template get<std::uint32_t>();
-    f.datatype = r.template get<std::uint8_t>();
-    f.count = r.template get<std::uint32_t>();
+  io.size(c.fields, 13, "fields");
+  for (auto& f : c.fields) {
+    io.str(f.name);
+    io.value(f.offset);
+    io.value(f.datatype);
+    io.value(f.count);
   }
-  c.is_bigendian = r.template get<std::uint8_t>() != 0;
-  c.point_step = r.template get<std::uint32_t>();
-  c.row_step = r.template get<std::uint32_t>();
-  r.sequence(c.data, "data");
-  c.is_dense = r.template get<std::uint8_t>() != 0;
-  return c;
+  io.value(c.is_bigendian);
+  io.value(c.point_step);
+  io.value(c.row_step);
+  io.sequence(c.data, "data");
+  io.value(c.is_dense);
 }
 
 // nav_msgs/Odometry: Header header; string child_frame_id; PoseWithCovariance pose;
 // TwistWithCovariance twist (Twist twist {Vector3 linear, Vector3 angular}; float64[36]).
-template <class Reader>
-OdometryMsg odometry(Reader& r) {
-  OdometryMsg o;
-  o.header = r.header();
-  o.child_frame_id = r.str();
-  o.pose = pose_with_covariance(r);
-  o.twist.linear = vector3(r);
-  o.twist.angular = vector3(r);
-  r.array(o.twist.covariance);
-  return o;
+template <class Io>
+void odometry(Io& io, Field<Io, OdometryMsg>& o) {
+  io.header(o.header);
+  io.str(o.child_frame_id);
+  pose_with_covariance(io, o.pose);
+  vector3(io, o.twist.linear);
+  vector3(io, o.twist.angular);
+  io.array(o.twist.covariance);
 }
 
 // tf2_msgs/TFMessage: geometry_msgs/TransformStamped[] transforms. TransformStamped: Header
 // header; string child_frame_id; Transform transform {Vector3 translation; Quaternion rotation}.
-template <class Reader>
-TfMsg tf(Reader& r) {
-  TfMsg tf;
+template <class Io>
+void tf(Io& io, Field<Io, TfMsg>& m) {
   // A TransformStamped takes at least 72 bytes: stamp 8, two string lengths 8, 7 float64.
-  tf.transforms.resize(r.length(72, "transforms"));
-  for (TransformStampedMsg& t : tf.transforms) {
-    t.header = r.header();
-    t.child_frame_id = r.str();
-    t.translation = vector3(r);
-    t.rotation = quaternion(r);
+  io.size(m.transforms, 72, "transforms");
+  for (auto& t : m.transforms) {
+    io.header(t.header);
+    io.str(t.child_frame_id);
+    vector3(io, t.translation);
+    quaternion(io, t.rotation);
   }
-  return tf;
 }
 
 // geometry_msgs/PoseStamped: Header header; Pose pose.
-template <class Reader>
-PoseStampedMsg pose_stamped(Reader& r) {
-  PoseStampedMsg p;
-  p.header = r.header();
-  p.pose = pose(r);
-  return p;
+template <class Io>
+void pose_stamped(Io& io, Field<Io, PoseStampedMsg>& p) {
+  io.header(p.header);
+  pose(io, p.pose);
 }
 
 // geometry_msgs/PoseWithCovarianceStamped: Header header; PoseWithCovariance pose.
-template <class Reader>
-PoseWithCovarianceStampedMsg pose_with_covariance_stamped(Reader& r) {
-  PoseWithCovarianceStampedMsg p;
-  p.header = r.header();
-  p.pose = pose_with_covariance(r);
-  return p;
+template <class Io>
+void pose_with_covariance_stamped(Io& io, Field<Io, PoseWithCovarianceStampedMsg>& p) {
+  io.header(p.header);
+  pose_with_covariance(io, p.pose);
 }
 
 // sensor_msgs/Imu: Header header; Quaternion orientation; float64[9] orientation_covariance;
 // Vector3 angular_velocity; float64[9] angular_velocity_covariance; Vector3 linear_acceleration;
 // float64[9] linear_acceleration_covariance.
-template <class Reader>
-ImuMsg imu(Reader& r) {
-  ImuMsg i;
-  i.header = r.header();
-  i.orientation = quaternion(r);
-  r.array(i.orientation_covariance);
-  i.angular_velocity = vector3(r);
-  r.array(i.angular_velocity_covariance);
-  i.linear_acceleration = vector3(r);
-  r.array(i.linear_acceleration_covariance);
-  return i;
+template <class Io>
+void imu(Io& io, Field<Io, ImuMsg>& i) {
+  io.header(i.header);
+  quaternion(io, i.orientation);
+  io.array(i.orientation_covariance);
+  vector3(io, i.angular_velocity);
+  io.array(i.angular_velocity_covariance);
+  vector3(io, i.linear_acceleration);
+  io.array(i.linear_acceleration_covariance);
+}
+
+// nav_msgs/MapMetaData: time map_load_time; float32 resolution; uint32 width; uint32 height;
+// geometry_msgs/Pose origin.
+template <class Io>
+void map_meta_data(Io& io, Field<Io, MapMetaDataMsg>& m) {
+  io.time(m.map_load_time_ns);
+  io.value(m.resolution);
+  io.value(m.width);
+  io.value(m.height);
+  pose(io, m.origin);
+}
+
+// nav_msgs/OccupancyGrid: Header header; MapMetaData info; int8[] data.
+template <class Io>
+void occupancy_grid(Io& io, Field<Io, OccupancyGridMsg>& g) {
+  io.header(g.header);
+  map_meta_data(io, g.info);
+  io.sequence(g.data, "data");
 }
 
 }  // namespace vdtnav::ros::fields

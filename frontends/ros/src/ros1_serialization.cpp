@@ -32,34 +32,46 @@ std::string describe(const BagMessage& m) {
 
 /// \brief ROS 1 serialization (packed, little-endian; strings and sequences with a uint32
 /// length) over a message's bytes, every read bounds-checked: a message cut short or a length
-/// larger than the bytes left is a FormatError, before anything is allocated.
+/// larger than the bytes left is a FormatError, before anything is allocated. The Io (reading)
+/// of message_fields.hpp.
 class Ros1Reader {
  public:
+  static constexpr bool kWrites = false;
+
   explicit Ros1Reader(const BagMessage& m) : m_(m) {}
 
   template <typename T>
-  T get() {
-    T v;
+  void value(T& v) {
     std::memcpy(&v, take(sizeof(T), "a field"), sizeof(T));  // x86-64 and ARM: little-endian
-    return v;
   }
-  std::string str() {
+  /// bool: one byte, any nonzero true.
+  void value(bool& v) {
+    std::uint8_t b = 0;
+    value(b);
+    v = b != 0;
+  }
+  void str(std::string& s) {
     const std::size_t n = length(1, "a string");
     const std::uint8_t* p = take(n, "a string");
-    return std::string(reinterpret_cast<const char*>(p), n);
+    s.assign(reinterpret_cast<const char*>(p), n);
   }
-  /// std_msgs/Header: uint32 seq (dropped), time stamp (uint32 sec, uint32 nsec), string frame_id.
-  Header header() {
-    (void)get<std::uint32_t>();
-    Header h;
-    const auto sec = get<std::uint32_t>();
-    const auto nsec = get<std::uint32_t>();
-    h.stamp_ns = detail::to_ns(sec, nsec);
-    h.frame_id = str();
-    return h;
+  /// time: uint32 sec, uint32 nsec.
+  void time(std::int64_t& ns) {
+    std::uint32_t sec = 0, nsec = 0;
+    value(sec);
+    value(nsec);
+    ns = detail::to_ns(sec, nsec);
+  }
+  /// std_msgs/Header: uint32 seq (dropped), time stamp, string frame_id.
+  void header(Header& h) {
+    std::uint32_t seq = 0;
+    value(seq);
+    time(h.stamp_ns);
+    str(h.frame_id);
   }
   std::size_t length(std::size_t min_element_bytes, const char* field) {
-    const auto n = get<std::uint32_t>();
+    std::uint32_t n = 0;
+    value(n);
     if (static_cast<std::uint64_t>(n) * min_element_bytes > m_.data.size() - at_) {
       throw FormatError(describe(m_), 0,
                         std::string("expected ") + m_.type + ": " + field + " claims " +
@@ -67,6 +79,10 @@ class Ros1Reader {
                             std::to_string(m_.data.size() - at_) + " bytes are left");
     }
     return n;
+  }
+  template <typename T>
+  void size(std::vector<T>& out, std::size_t min_element_bytes, const char* field) {
+    out.resize(length(min_element_bytes, field));
   }
   template <typename T>
   void sequence(std::vector<T>& out, const char* field) {
@@ -96,7 +112,8 @@ class Ros1Reader {
 
 /// \brief Checks m's type and format, then decodes its fields (message_fields.hpp).
 template <class Msg>
-Msg decode_with(const BagMessage& m, const std::string& expected, Msg (*fields)(Ros1Reader&)) {
+Msg decode_with(const BagMessage& m, const std::string& expected,
+                void (*layout)(Ros1Reader&, Msg&)) {
   if (ros1_type_name(m.type) != expected) {
     throw FormatError(describe(m), 0, "expected " + expected + ", the topic holds " + m.type);
   }
@@ -104,7 +121,9 @@ Msg decode_with(const BagMessage& m, const std::string& expected, Msg (*fields)(
     throw FormatError(describe(m), 0, "not a ROS 1 message (ROS 2 CDR bytes)");
   }
   Ros1Reader r(m);
-  return fields(r);
+  Msg msg;
+  layout(r, msg);
+  return msg;
 }
 
 }  // namespace
@@ -130,6 +149,9 @@ PoseWithCovarianceStampedMsg decode_pose_with_covariance_stamped(const BagMessag
 }
 ImuMsg decode_imu(const BagMessage& m) {
   return decode_with(m, "sensor_msgs/Imu", fields::imu<Ros1Reader>);
+}
+OccupancyGridMsg decode_occupancy_grid(const BagMessage& m) {
+  return decode_with(m, "nav_msgs/OccupancyGrid", fields::occupancy_grid<Ros1Reader>);
 }
 
 }  // namespace vdtnav::ros::ros1

@@ -37,9 +37,12 @@ void expect_type(const BagMessage& m, const std::string& ros2_type) {
   }
 }
 
-/// Fast CDR over a message's bytes, with sequence lengths checked against the bytes left.
+/// Fast CDR over a message's bytes, with sequence lengths checked against the bytes left: the Io
+/// (reading) of message_fields.hpp.
 class CdrReader {
  public:
+  static constexpr bool kWrites = false;
+
   explicit CdrReader(const BagMessage& m)
       // Fast CDR takes a mutable buffer but only reads it when deserializing.
       : buffer_(const_cast<char*>(reinterpret_cast<const char*>(m.data.data())), m.data.size()),
@@ -54,24 +57,25 @@ class CdrReader {
   }
 
   template <typename T>
-  T get() {
-    T v{};
+  void value(T& v) {
     cdr_.deserialize(v);
-    return v;
+  }
+  /// bool: one byte, any nonzero true (Fast CDR would refuse all but 0 and 1).
+  void value(bool& v) {
+    std::uint8_t b = 0;
+    cdr_.deserialize(b);
+    v = b != 0;
   }
 
   /// A CDR string: uint32 length counting the NUL, the bytes, the NUL (Fast CDR drops it and
   /// checks the length against the buffer).
-  std::string str() {
-    std::string s;
-    cdr_.deserialize(s);
-    return s;
-  }
+  void str(std::string& s) { cdr_.deserialize(s); }
 
   /// A sequence's uint32 length, refused when min_element_bytes * length exceeds what is left
   /// (so a corrupt length cannot make us allocate gigabytes).
   std::size_t length(std::size_t min_element_bytes, const char* field) {
-    const auto n = get<std::uint32_t>();
+    std::uint32_t n = 0;
+    value(n);
     const std::size_t left =
         buffer_.getBufferSize() -
         static_cast<std::size_t>(cdr_.getCurrentPosition() - cdr_.getBufferPointer());
@@ -84,7 +88,13 @@ class CdrReader {
     return n;
   }
 
-  /// float32[] / uint8[]: length then the elements.
+  /// A sequence of messages: its length (the caller reads the elements).
+  template <typename T>
+  void size(std::vector<T>& out, std::size_t min_element_bytes, const char* field) {
+    out.resize(length(min_element_bytes, field));
+  }
+
+  /// float32[] / uint8[] / int8[]: length then the elements.
   template <typename T>
   void sequence(std::vector<T>& out, const char* field) {
     out.resize(length(sizeof(T), field));
@@ -97,15 +107,19 @@ class CdrReader {
     cdr_.deserializeArray(out.data(), N);
   }
 
-  /// builtin_interfaces/msg/Time (int32 sec, uint32 nanosec) + string frame_id:
-  /// std_msgs/msg/Header.
-  Header header() {
-    Header h;
-    const auto sec = get<std::int32_t>();
-    const auto nanosec = get<std::uint32_t>();
-    h.stamp_ns = std::int64_t{sec} * 1000000000 + std::int64_t{nanosec};
-    h.frame_id = str();
-    return h;
+  /// builtin_interfaces/msg/Time: int32 sec, uint32 nanosec.
+  void time(std::int64_t& ns) {
+    std::int32_t sec = 0;
+    std::uint32_t nanosec = 0;
+    value(sec);
+    value(nanosec);
+    ns = std::int64_t{sec} * 1000000000 + std::int64_t{nanosec};
+  }
+
+  /// std_msgs/msg/Header: builtin_interfaces/msg/Time stamp; string frame_id.
+  void header(Header& h) {
+    time(h.stamp_ns);
+    str(h.frame_id);
   }
 
  private:
@@ -114,14 +128,17 @@ class CdrReader {
   const BagMessage& m_;
 };
 
-/// Runs decode on a CdrReader of m, turning Fast CDR's exceptions (truncated data, a bad
-/// encapsulation) into FormatError.
-template <typename Decode>
-auto decode_with(const BagMessage& m, const std::string& ros2_type, Decode decode) {
+/// Reads a Msg from m with its layout over a CdrReader, turning Fast CDR's exceptions (truncated
+/// data, a bad encapsulation) into FormatError.
+template <class Msg>
+Msg decode_with(const BagMessage& m, const std::string& ros2_type,
+                void (*layout)(CdrReader&, Msg&)) {
   expect_type(m, ros2_type);
   try {
     CdrReader r(m);
-    return decode(r);
+    Msg msg;
+    layout(r, msg);
+    return msg;
   } catch (const cdr::exception::Exception& e) {
     throw FormatError(where(m), 0,
                       "expected " + ros2_type + " in CDR (" + std::to_string(m.data.size()) +
@@ -153,6 +170,9 @@ PoseWithCovarianceStampedMsg decode_pose_with_covariance_stamped(const BagMessag
 }
 ImuMsg decode_imu(const BagMessage& m) {
   return decode_with(m, "sensor_msgs/msg/Imu", fields::imu<CdrReader>);
+}
+OccupancyGridMsg decode_occupancy_grid(const BagMessage& m) {
+  return decode_with(m, "nav_msgs/msg/OccupancyGrid", fields::occupancy_grid<CdrReader>);
 }
 
 }  // namespace vdtnav::ros::ros2

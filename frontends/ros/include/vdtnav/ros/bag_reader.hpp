@@ -71,6 +71,7 @@ class BagReader {
 [[nodiscard]] PoseStampedMsg decode_pose_stamped(const BagMessage& m);
 [[nodiscard]] PoseWithCovarianceStampedMsg decode_pose_with_covariance_stamped(const BagMessage& m);
 [[nodiscard]] ImuMsg decode_imu(const BagMessage& m);
+[[nodiscard]] OccupancyGridMsg decode_occupancy_grid(const BagMessage& m);
 
 /// \return the type name in ROS 1 spelling ("sensor_msgs/msg/LaserScan" ->
 /// "sensor_msgs/LaserScan").

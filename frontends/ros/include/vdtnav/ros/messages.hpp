@@ -1,8 +1,9 @@
 #pragma once
 /// \file
-/// \brief The ROS messages vdtnav reads, as plain structs (no ROS type): the fields of
+/// \brief The ROS messages vdtnav reads and writes, as plain structs (no ROS type): the fields of
 /// sensor_msgs, nav_msgs, geometry_msgs and tf2_msgs that a localizer needs, decoded from either
-/// bag format (bag_reader.hpp). The same structs serve a ROS 1 or ROS 2 node later.
+/// bag format (bag_reader.hpp) and encoded as ROS 2 CDR (cdr_writer.hpp). The same structs serve
+/// a ROS 1 or ROS 2 node.
 ///
 /// Times are nanoseconds since the epoch (ROS 1 time: sec * 1e9 + nsec; ROS 2's builtin
 /// Time likewise). Orientations are unit quaternions (x, y, z, w as ROS writes them).
@@ -112,6 +113,22 @@ struct ImuMsg {
   std::array<double, 9> angular_velocity_covariance{};
   Eigen::Vector3d linear_acceleration = Eigen::Vector3d::Zero();
   std::array<double, 9> linear_acceleration_covariance{};
+};
+
+/// \brief nav_msgs/MapMetaData: where a grid lies and how fine it is.
+struct MapMetaDataMsg {
+  std::int64_t map_load_time_ns = 0;
+  float resolution = 0.0F;              ///< m/cell
+  std::uint32_t width = 0, height = 0;  ///< cells
+  /// The pose of cell (0, 0)'s corner in header.frame_id.
+  PoseMsg origin;
+};
+
+/// \brief nav_msgs/OccupancyGrid (data row-major from cell (0, 0): occupancy 0..100, -1 unknown).
+struct OccupancyGridMsg {
+  Header header;
+  MapMetaDataMsg info;
+  std::vector<std::int8_t> data;
 };
 
 }  // namespace vdtnav::ros
