@@ -225,7 +225,8 @@ class LocalizerNode {
   }
 
   bool on_global(std_srvs::Empty::Request& /*req*/, std_srvs::Empty::Response& /*res*/) {
-    if (!core_->start_global()) return false;
+    if (!core_->has_map()) return false;
+    core_->start_global();
     ROS_INFO("vdtnav_localizer: global localization: searching the whole map");
     return true;
   }
@@ -281,7 +282,7 @@ class LocalizerNode {
     kv("waiting", std::to_string(st.waiting));
     if (!st.reason.empty()) kv("reason", st.reason);
     status_pub_.publish(s);
-    if (st.token == "no_odometry") {
+    if (st.token == "no_odometry" || st.token == "no_transform") {
       ROS_WARN_THROTTLE(5.0, "vdtnav_localizer: scan at %s not localized: %s", stamp,
                         st.reason.c_str());
     }

@@ -132,5 +132,32 @@ std::vector<std::uint8_t> encode_cdr(const ImuMsg& m) {
 std::vector<std::uint8_t> encode_cdr(const OccupancyGridMsg& m) {
   return encode_with(m, fields::occupancy_grid<CdrWriter>);
 }
+std::vector<std::uint8_t> encode_cdr(const LifecycleTransitionMsg& m) {
+  return encode_with(m, fields::lifecycle_transition<CdrWriter>);
+}
+std::vector<std::uint8_t> encode_cdr(const LifecycleStateMsg& m) {
+  return encode_with(m, fields::lifecycle_state<CdrWriter>);
+}
+std::vector<std::uint8_t> encode_cdr(const ChangeStateRequestMsg& m) {
+  return encode_with(m, fields::change_state_request<CdrWriter>);
+}
+std::vector<std::uint8_t> encode_cdr(const ChangeStateResponseMsg& m) {
+  return encode_with(m, fields::change_state_response<CdrWriter>);
+}
+std::vector<std::uint8_t> encode_cdr(const GetStateResponseMsg& m) {
+  return encode_with(m, fields::get_state_response<CdrWriter>);
+}
+std::vector<std::uint8_t> encode_cdr(const TransitionEventMsg& m) {
+  return encode_with(m, fields::transition_event<CdrWriter>);
+}
+std::vector<std::uint8_t> encode_cdr(const BondStatusMsg& m) {
+  return encode_with(m, fields::bond_status<CdrWriter>);
+}
+std::vector<std::uint8_t> encode_cdr(const EmptyMsg& m) {
+  return encode_with(m, fields::empty<CdrWriter>);
+}
+std::vector<std::uint8_t> encode_cdr(const SetInitialPoseRequestMsg& m) {
+  return encode_with(m, fields::set_initial_pose_request<CdrWriter>);
+}
 
 }  // namespace vdtnav::ros

@@ -34,6 +34,8 @@ const char* to_string(LiveEstimate::Event e) {
       return "no_pose";
     case LiveEstimate::Event::kNoOdometry:
       return "no_odometry";
+    case LiveEstimate::Event::kNoTransform:
+      return "no_transform";
   }
   return "?";
 }
@@ -115,7 +117,9 @@ std::vector<LiveEstimate> LiveLocalizer::drain() {
   std::vector<std::pair<LaserScanMsg, Pose2>> ready;
   while (!queue_.empty()) {
     const std::int64_t t = queue_.front().header.stamp_ns;
-    if (const std::optional<Pose2> odometry = odometry_at(t)) {
+    const std::optional<Pose2> odometry = odometry_at(t);
+    const bool mounted = mount_for(queue_.front()).has_value();
+    if (odometry && mounted) {
       ready.emplace_back(std::move(queue_.front()), *odometry);
       queue_.pop_front();
       continue;
@@ -124,13 +128,17 @@ std::vector<LiveEstimate> LiveLocalizer::drain() {
                        newest_tf_ns_ - t > kOdometryWaitNs;
     if (!stale && queue_.size() <= options_.max_queue) break;
     LiveEstimate e;
-    e.event = LiveEstimate::Event::kNoOdometry;
+    e.event = mounted ? LiveEstimate::Event::kNoOdometry : LiveEstimate::Event::kNoTransform;
     e.stamp_ns = t;
-    e.reason = "no transform " + options_.odom_frame + " -> " + options_.base_frame +
-               " at the scan's stamp (" +
-               (stale ? "transforms 1 s newer arrived without it"
-                      : std::to_string(queue_.size()) + " scans waiting") +
-               "; the frames: " + tf_.describe() + ")";
+    e.reason =
+        "no transform " +
+        (mounted ? options_.odom_frame + " -> " + options_.base_frame
+                 : options_.base_frame + " -> " + strip_slash(queue_.front().header.frame_id) +
+                       " (the scans' frame; or set laser_pose x,y,yaw)") +
+        " at the scan's stamp (" +
+        (stale ? "transforms 1 s newer arrived without it"
+               : std::to_string(queue_.size()) + " scans waiting") +
+        "; the frames: " + tf_.describe() + ")";
     out.push_back(std::move(e));
     queue_.pop_front();
   }
@@ -190,8 +198,8 @@ LiveEstimate LiveLocalizer::localize(const LaserScanMsg& msg, const Pose2& odome
   e.stamp_ns = msg.header.stamp_ns;
   e.odometry = odometry;
   const std::optional<Pose2> mount = mount_for(msg);
-  if (!mount) {
-    e.event = LiveEstimate::Event::kNoOdometry;
+  if (!mount) {  // drain() holds a scan back until its mounting is known
+    e.event = LiveEstimate::Event::kNoTransform;
     e.reason = "no transform " + options_.base_frame + " -> " + strip_slash(msg.header.frame_id) +
                " (the scans' frame); set laser_pose x,y,yaw (the frames: " + tf_.describe() + ")";
     return e;
@@ -233,7 +241,8 @@ LiveEstimate LiveLocalizer::localize(const LaserScanMsg& msg, const Pose2& odome
   } else {
     // amcl's rule: localize once the robot moved update_min_d or turned update_min_a.
     const Pose2 d = between(last_odometry_, odometry);
-    if (std::hypot(d[0], d[1]) < options_.update_min_d && std::abs(d[2]) < options_.update_min_a) {
+    if (!force_update_ && std::hypot(d[0], d[1]) < options_.update_min_d &&
+        std::abs(d[2]) < options_.update_min_a) {
       e.event = LiveEstimate::Event::kSkipped;
       e.has_map_to_odom = map_to_odom_.has_value();
       if (map_to_odom_) e.map_to_odom = *map_to_odom_;
@@ -244,6 +253,7 @@ LiveEstimate LiveLocalizer::localize(const LaserScanMsg& msg, const Pose2& odome
   }
   e.result = loc.update(step, scan);
   e.event = LiveEstimate::Event::kLocalized;
+  force_update_ = false;
   last_odometry_ = odometry;
   last_time_ = t;
   if (published_by_default(e.result.status)) {  // converged, or bridged across a gap

@@ -13,6 +13,10 @@
 // field) for the length of a sequence of messages (a reader resizes v, refusing a length whose
 // elements cannot fit in the bytes left before anything is allocated; a writer writes v.size()),
 // and array(a) for a fixed float64 array.
+//
+// The lifecycle_msgs, bond, std_srvs and nav2_msgs layouts (from lifecycle_transition on) are
+// instantiated by the ROS 2 CDR reader and writer only; they call nothing else than the ones
+// above, so any Io would do.
 
 #include <array>
 #include <cstdint>
@@ -167,6 +171,76 @@ void occupancy_grid(Io& io, Field<Io, OccupancyGridMsg>& g) {
   io.header(g.header);
   map_meta_data(io, g.info);
   io.sequence(g.data, "data");
+}
+
+// lifecycle_msgs/Transition: uint8 id; string label.
+template <class Io>
+void lifecycle_transition(Io& io, Field<Io, LifecycleTransitionMsg>& t) {
+  io.value(t.id);
+  io.str(t.label);
+}
+
+// lifecycle_msgs/State: uint8 id; string label.
+template <class Io>
+void lifecycle_state(Io& io, Field<Io, LifecycleStateMsg>& s) {
+  io.value(s.id);
+  io.str(s.label);
+}
+
+// lifecycle_msgs/ChangeState_Request: Transition transition.
+template <class Io>
+void change_state_request(Io& io, Field<Io, ChangeStateRequestMsg>& r) {
+  lifecycle_transition(io, r.transition);
+}
+
+// lifecycle_msgs/ChangeState_Response: bool success.
+template <class Io>
+void change_state_response(Io& io, Field<Io, ChangeStateResponseMsg>& r) {
+  io.value(r.success);
+}
+
+// lifecycle_msgs/GetState_Response: State current_state.
+template <class Io>
+void get_state_response(Io& io, Field<Io, GetStateResponseMsg>& r) {
+  lifecycle_state(io, r.current_state);
+}
+
+// lifecycle_msgs/TransitionEvent: uint64 timestamp; Transition transition; State start_state;
+// State goal_state.
+template <class Io>
+void transition_event(Io& io, Field<Io, TransitionEventMsg>& e) {
+  io.value(e.timestamp);
+  lifecycle_transition(io, e.transition);
+  lifecycle_state(io, e.start_state);
+  lifecycle_state(io, e.goal_state);
+}
+
+// bond/Status: Header header; string id; string instance_id; bool active;
+// float32 heartbeat_timeout; float32 heartbeat_period.
+template <class Io>
+void bond_status(Io& io, Field<Io, BondStatusMsg>& b) {
+  io.header(b.header);
+  io.str(b.id);
+  io.str(b.instance_id);
+  io.value(b.active);
+  io.value(b.heartbeat_timeout);
+  io.value(b.heartbeat_period);
+}
+
+// A message, request or response without fields (std_srvs/Empty_Request, ...): rosidl generates
+// it with the one member uint8 structure_needs_at_least_one_member, 0 when written, ignored when
+// read (rosidl_adapter's struct.idl.em, for a .msg or .srv part with no fields;
+// rosidl_parser.definition.EMPTY_STRUCTURE_REQUIRED_MEMBER_NAME).
+template <class Io>
+void empty(Io& io, Field<Io, EmptyMsg>& /*m*/) {
+  std::uint8_t structure_needs_at_least_one_member = 0;
+  io.value(structure_needs_at_least_one_member);
+}
+
+// nav2_msgs/SetInitialPose_Request: geometry_msgs/PoseWithCovarianceStamped pose.
+template <class Io>
+void set_initial_pose_request(Io& io, Field<Io, SetInitialPoseRequestMsg>& r) {
+  pose_with_covariance_stamped(io, r.pose);
 }
 
 }  // namespace vdtnav::ros::fields

@@ -74,7 +74,9 @@ NodeOutput NodeCore::set_map(RosMap map, const std::string& source) {
     localizer_->set_map(std::move(map));
   } else {
     localizer_ = std::make_unique<LiveLocalizer>(std::move(map), settings_, options_.live);
-    if (options_.has_initial_pose) {
+    if (global_requested_) {
+      localizer_->start_global();
+    } else if (options_.has_initial_pose) {
       localizer_->set_pose(options_.initial_pose, options_.initial_covariance);
     }
     // What arrived before the map (the latched static transforms above all), in its order.
@@ -157,9 +159,17 @@ NodeOutput NodeCore::set_initial_pose(const PoseWithCovarianceStampedMsg& m) {
   return out;
 }
 
-bool NodeCore::start_global() {
+void NodeCore::start_global() {
+  if (localizer_) {
+    localizer_->start_global();
+  } else {
+    global_requested_ = true;
+  }
+}
+
+bool NodeCore::request_update() {
   if (!localizer_) return false;
-  localizer_->start_global();
+  localizer_->request_update();
   return true;
 }
 

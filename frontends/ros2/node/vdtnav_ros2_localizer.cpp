@@ -1,34 +1,47 @@
 // vdtnav_ros2_localizer: a ROS 2 node in nav2's amcl's place, without rclcpp: a Fast DDS
 // participant with ROS 2's names, types and QoS (vdtnav/ros2/dds.hpp), started as a launch file
-// starts amcl (`--ros-args -r __node:=amcl --params-file nav2_params.yaml -p ...`):
+// starts amcl (`--ros-args -r __node:=amcl --params-file nav2_params.yaml -p ...`) and managed
+// as nav2's lifecycle manager manages it (lifecycle.hpp: `~/change_state`, `~/get_state`,
+// `~/transition_event`, and the bond heartbeat on `bond` while active):
 //   subscribes  scan_topic (sensor_msgs/LaserScan, sensor-data QoS), map_topic
 //               (nav_msgs/OccupancyGrid, transient local) unless map_file names a map_server
 //               YAML to load, initialpose (geometry_msgs/PoseWithCovarianceStamped), /tf and
 //               /tf_static (transient local);
 //   publishes   amcl_pose (geometry_msgs/PoseWithCovarianceStamped, transient local, depth 1)
 //               and global_frame_id -> odom_frame_id on /tf, stamped scan stamp +
-//               transform_tolerance (unless tf_broadcast is false).
+//               transform_tolerance (unless tf_broadcast is false), while active;
+//   services    reinitialize_global_localization, request_nomotion_update (std_srvs/Empty),
+//               set_initial_pose (nav2_msgs/SetInitialPose).
 // The node's work is vdtnav::ros::NodeCore's, the ROS 1 node's too: the scans localized exactly
 // as `vdtnav localize --bag` localizes them. docs/ros2-node.md lists the parameters.
+#include <chrono>
 #include <condition_variable>
 #include <csignal>
 #include <cstdio>
 #include <deque>
+#include <map>
+#include <memory>
 #include <mutex>
+#include <optional>
+#include <random>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "vdtnav/core/error.hpp"
 #include "vdtnav/estimation/localizer_config.hpp"
-#include "vdtnav/ros/bag_reader.hpp"
+#include "vdtnav/ros/cdr_reader.hpp"
 #include "vdtnav/ros/cdr_writer.hpp"
 #include "vdtnav/ros/node_core.hpp"
+#include "vdtnav/ros/transform_buffer.hpp"
 #include "vdtnav/ros2/dds.hpp"
+#include "vdtnav/ros2/lifecycle.hpp"
 #include "vdtnav/ros2/ros_args.hpp"
+#include "vdtnav/ros2/service.hpp"
 
 namespace vr = vdtnav::ros;
 namespace v2 = vdtnav::ros2;
+using Clock = std::chrono::steady_clock;
 
 namespace {
 
@@ -40,11 +53,29 @@ constexpr const char* kTf = "tf2_msgs/msg/TFMessage";
 volatile std::sig_atomic_t g_stop = 0;
 void on_signal(int) { g_stop = 1; }
 
+std::uint64_t wall_ns() {
+  return static_cast<std::uint64_t>(std::chrono::duration_cast<std::chrono::nanoseconds>(
+                                        std::chrono::system_clock::now().time_since_epoch())
+                                        .count());
+}
+
 /// What the DDS threads hand the node's thread, in arrival order.
 struct Input {
-  enum class Kind { kScan, kTf, kTfStatic, kMap, kInitialPose } kind;
-  v2::Sample sample;
-  std::chrono::steady_clock::time_point arrival;
+  enum class Kind {
+    kScan,
+    kTf,
+    kTfStatic,
+    kMap,
+    kInitialPose,
+    kChangeState,
+    kGetState,
+    kGlobal,
+    kNoMotion,
+    kSetInitialPose
+  } kind = Kind::kScan;
+  v2::Sample sample;    // topics
+  v2::Request request;  // services
+  Clock::time_point arrival;
 };
 
 class Inbox {
@@ -56,11 +87,10 @@ class Inbox {
     }
     ready_.notify_one();
   }
-  /// \return false when nothing arrived within 100 ms.
-  bool pop(Input* out) {
+  /// \return false when nothing arrived within `wait`.
+  bool pop(Input* out, std::chrono::milliseconds wait) {
     std::unique_lock<std::mutex> lock(mutex_);
-    if (!ready_.wait_for(lock, std::chrono::milliseconds(100), [this] { return !queue_.empty(); }))
-      return false;
+    if (!ready_.wait_for(lock, wait, [this] { return !queue_.empty(); })) return false;
     *out = std::move(queue_.front());
     queue_.pop_front();
     return true;
@@ -71,17 +101,6 @@ class Inbox {
   std::condition_variable ready_;
   std::deque<Input> queue_;
 };
-
-/// The bytes of a sample as a ROS 2 bag message, for the decoders of bag_reader.hpp.
-vr::BagMessage as_message(const v2::Sample& s, const std::string& topic, const char* type) {
-  vr::BagMessage m;
-  m.format = vr::BagFormat::kRos2;
-  m.topic = topic;
-  m.type = type;
-  m.recorded_ns = s.source_ns;
-  m.data = s.cdr;
-  return m;
-}
 
 /// "x,y,yaw" as a pose (laser_pose); empty: none.
 std::optional<vdtnav::Pose2> pose_param(const v2::RosArgs& args, const std::string& name) {
@@ -125,105 +144,316 @@ vr::NodeOptions node_options(const v2::RosArgs& args) {
   return o;
 }
 
-void log_line(const v2::RosArgs& args, const std::string& line) {
-  std::fprintf(stderr, "[%s] %s\n", args.node_name().c_str(), line.c_str());
+/// A random instance id for the bond (bondcpp: a UUID per Bond).
+std::string instance_id() {
+  std::random_device rd;
+  char buf[40];
+  std::snprintf(buf, sizeof buf, "%08x-%04x-%04x-%04x-%08x%04x", rd(), rd() & 0xffffU,
+                (rd() & 0x0fffU) | 0x4000U, (rd() & 0x3fffU) | 0x8000U, rd(), rd() & 0xffffU);
+  return buf;
 }
 
-int run(int argc, char** argv) {
-  const v2::RosArgs args(argc, argv, "amcl");
-  vr::NodeOptions options = node_options(args);
-  vdtnav::LocalizerSettings settings = vdtnav::log_settings();
-  const std::string config = args.text("config", "");
-  if (!config.empty()) settings = vdtnav::load_localizer_config(config, settings);
-  vr::NodeCore core(options, settings);
-
-  const std::string scan_topic = args.resolve(args.text("scan_topic", "scan"));
-  const std::string map_topic = args.resolve(args.text("map_topic", "map"));
-  const std::string map_file = args.text("map_file", "");
-
-  v2::ParticipantOptions po;
-  po.name = args.node_name();
-  v2::Participant participant(po);
-  Inbox inbox;
-  const auto into = [&inbox](Input::Kind kind) {
-    return [&inbox, kind](const v2::Sample& s) {
-      inbox.push({kind, s, std::chrono::steady_clock::now()});
+class Ros2Localizer {
+ public:
+  explicit Ros2Localizer(const v2::RosArgs& args)
+      : args_(args),
+        participant_(participant_options(args)),
+        lifecycle_({[this] { return configure(); }, [this] { return activate(); },
+                    [this] { return deactivate(); }, [this] { return cleanup(); },
+                    [this] { return shutdown(); }}),
+        bond_instance_(instance_id()) {
+    scan_topic_ = args.resolve(args.text("scan_topic", "scan"));
+    map_topic_ = args.resolve(args.text("map_topic", "map"));
+    const auto into = [this](Input::Kind kind) {
+      return [this, kind](const v2::Sample& s) {
+        Input in;
+        in.kind = kind;
+        in.sample = s;
+        in.arrival = Clock::now();
+        inbox_.push(std::move(in));
+      };
     };
-  };
-  // Writers first: declared after the participant, destroyed before it.
-  auto pose_out =
-      participant.writer(args.resolve("amcl_pose"), kPoseCov, v2::Qos::transient_local());
-  auto tf_out = participant.writer("/tf", kTf, v2::Qos::defaults());
-  std::vector<std::unique_ptr<v2::Reader>> readers;
-  readers.push_back(participant.reader("/tf_static", kTf, v2::Qos::transient_local(100),
-                                       into(Input::Kind::kTfStatic)));
-  readers.push_back(participant.reader(
-      "/tf", kTf, v2::Qos{v2::Qos::Reliability::kReliable, v2::Qos::Durability::kVolatile, 100},
-      into(Input::Kind::kTf)));
-  readers.push_back(participant.reader(args.resolve("initialpose"), kPoseCov, v2::Qos::defaults(),
-                                       into(Input::Kind::kInitialPose)));
-  if (map_file.empty()) {
-    readers.push_back(participant.reader(map_topic, kOccupancyGrid, v2::Qos::transient_local(),
-                                         into(Input::Kind::kMap)));
-    log_line(args, "waiting for the map on " + map_topic);
-  } else {
-    for (const std::string& l :
-         core.set_map(vdtnav::load_ros_map(map_file), "file " + map_file).log)
-      log_line(args, l);
+    const auto request = [this](Input::Kind kind) {
+      return [this, kind](const v2::Request& r) {
+        Input in;
+        in.kind = kind;
+        in.request = r;
+        in.arrival = Clock::now();
+        inbox_.push(std::move(in));
+      };
+    };
+    pose_out_ =
+        participant_.writer(args.resolve("amcl_pose"), kPoseCov, v2::Qos::transient_local());
+    tf_out_ = participant_.writer("/tf", kTf, v2::Qos::defaults());
+    bond_out_ = participant_.writer(args.resolve("bond"), "bond/msg/Status", v2::Qos::defaults());
+    events_out_ = participant_.writer(args.resolve("~/transition_event"),
+                                      "lifecycle_msgs/msg/TransitionEvent", v2::Qos::defaults());
+    readers_.push_back(participant_.reader("/tf_static", kTf, v2::Qos::transient_local(100),
+                                           into(Input::Kind::kTfStatic)));
+    readers_.push_back(participant_.reader(
+        "/tf", kTf, v2::Qos{v2::Qos::Reliability::kReliable, v2::Qos::Durability::kVolatile, 100},
+        into(Input::Kind::kTf)));
+    readers_.push_back(participant_.reader(args.resolve("initialpose"), kPoseCov,
+                                           v2::Qos::defaults(), into(Input::Kind::kInitialPose)));
+    if (args.text("map_file", "").empty()) {
+      readers_.push_back(participant_.reader(map_topic_, kOccupancyGrid, v2::Qos::transient_local(),
+                                             into(Input::Kind::kMap)));
+    }
+    readers_.push_back(participant_.reader(scan_topic_, kLaserScan, v2::Qos::sensor_data(),
+                                           into(Input::Kind::kScan)));
+    services_.push_back(std::make_unique<v2::ServiceServer>(
+        participant_, args.resolve("~/change_state"), "lifecycle_msgs/srv/ChangeState",
+        request(Input::Kind::kChangeState)));
+    services_.push_back(std::make_unique<v2::ServiceServer>(
+        participant_, args.resolve("~/get_state"), "lifecycle_msgs/srv/GetState",
+        request(Input::Kind::kGetState)));
+    services_.push_back(std::make_unique<v2::ServiceServer>(
+        participant_, args.resolve("reinitialize_global_localization"), "std_srvs/srv/Empty",
+        request(Input::Kind::kGlobal)));
+    services_.push_back(
+        std::make_unique<v2::ServiceServer>(participant_, args.resolve("request_nomotion_update"),
+                                            "std_srvs/srv/Empty", request(Input::Kind::kNoMotion)));
+    services_.push_back(std::make_unique<v2::ServiceServer>(
+        participant_, args.resolve("set_initial_pose"), "nav2_msgs/srv/SetInitialPose",
+        request(Input::Kind::kSetInitialPose)));
+    log("up on DDS domain " + std::to_string(participant_.domain()) +
+        (participant_.loopback() ? " (loopback only)" : "") + ", " + args.fully_qualified_name() +
+        " unconfigured");
+    // A node started alone (no lifecycle manager) may bring itself up (vdtnav's `autostart`).
+    if (args.boolean("autostart", false)) {
+      change(1, "");
+      change(3, "");
+    }
   }
-  readers.push_back(
-      participant.reader(scan_topic, kLaserScan, v2::Qos::sensor_data(), into(Input::Kind::kScan)));
-  log_line(args, std::string("up on DDS domain ") + std::to_string(participant.domain()) +
-                     (participant.loopback() ? " (loopback only)" : "") + ", " +
-                     options.live.method + (config.empty() ? "" : " with " + config));
 
-  std::signal(SIGINT, on_signal);
-  std::signal(SIGTERM, on_signal);
-  while (g_stop == 0) {
-    Input in;
-    if (!inbox.pop(&in)) continue;
-    vr::NodeOutput out;
+  ~Ros2Localizer() {
+    // Endpoints before the participant (they are members declared after it).
+    services_.clear();
+    readers_.clear();
+  }
+
+  int run() {
+    auto next_beat = Clock::now();
+    while (g_stop == 0 && lifecycle_.state() != 4) {
+      Input in;
+      if (inbox_.pop(&in, std::chrono::milliseconds(20))) handle(in);
+      if (lifecycle_.state() == 3 && Clock::now() >= next_beat) {
+        heartbeat(true);
+        next_beat = Clock::now() + std::chrono::milliseconds(100);
+      }
+    }
+    if (lifecycle_.state() == 3) heartbeat(false);
+    std::string summary = "scans:";
+    for (const auto& [token, n] : statuses_) summary += " " + std::to_string(n) + " " + token;
+    log(statuses_.empty() ? "no scan localized" : summary);
+    // The reply to a shutdown request is still in flight: delivered before the process ends.
+    for (const auto& service : services_) service->flush(3.0);
+    return 0;
+  }
+
+ private:
+  static v2::ParticipantOptions participant_options(const v2::RosArgs& args) {
+    v2::ParticipantOptions po;
+    po.name = args.node_name();
+    return po;
+  }
+
+  void log(const std::string& line) const {
+    std::fprintf(stderr, "[%s] %s\n", args_.node_name().c_str(), line.c_str());
+  }
+
+  // ---- lifecycle hooks
+  bool configure() {
+    try {
+      vr::NodeOptions options = node_options(args_);
+      vdtnav::LocalizerSettings settings = vdtnav::log_settings();
+      const std::string config = args_.text("config", "");
+      if (!config.empty()) settings = vdtnav::load_localizer_config(config, settings);
+      core_ = std::make_unique<vr::NodeCore>(options, settings);
+      const std::string map_file = args_.text("map_file", "");
+      if (!map_file.empty()) {
+        emit(core_->set_map(vdtnav::load_ros_map(map_file), "file " + map_file));
+      } else {
+        log("waiting for the map on " + map_topic_);
+      }
+      // What the latched topics gave before (they are not sent again to the same reader).
+      for (const Input& in : latched_) consume(in);
+      log("configured: " + options.live.method + (config.empty() ? "" : " with " + config));
+      return true;
+    } catch (const vdtnav::Error& e) {
+      log(std::string("configure failed: ") + e.what());
+      core_.reset();
+      return false;
+    }
+  }
+  bool activate() {
+    log("active");
+    return true;
+  }
+  bool deactivate() {
+    heartbeat(false);
+    log("inactive");
+    return true;
+  }
+  bool cleanup() {
+    core_.reset();
+    log("unconfigured");
+    return true;
+  }
+  bool shutdown() {
+    if (lifecycle_.state() == 3) heartbeat(false);
+    core_.reset();
+    log("finalized");
+    return true;
+  }
+
+  bool change(std::uint8_t id, const std::string& label) {
+    const v2::Lifecycle::Result r = lifecycle_.change(id, label, wall_ns());
+    if (r.success) events_out_->write(vr::encode_cdr(r.event));
+    return r.success;
+  }
+
+  /// bond/msg/Status as bondcpp sends it (nav2_util's LifecycleNode: period 0.1 s, timeout 4 s).
+  void heartbeat(bool active) {
+    vr::BondStatusMsg s;
+    s.header.stamp_ns = static_cast<std::int64_t>(wall_ns());
+    s.id = args_.node_name();
+    s.instance_id = bond_instance_;
+    s.active = active;
+    s.heartbeat_timeout = 4.0F;
+    s.heartbeat_period = 0.1F;
+    bond_out_->write(vr::encode_cdr(s));
+  }
+
+  // ---- inputs
+  void handle(const Input& in) {
     try {
       switch (in.kind) {
-        case Input::Kind::kScan:
-          out = core.add_scan(vr::decode_laser_scan(as_message(in.sample, scan_topic, kLaserScan)),
-                              in.arrival);
-          break;
-        case Input::Kind::kTf:
-        case Input::Kind::kTfStatic: {
-          const bool is_static = in.kind == Input::Kind::kTfStatic;
-          out = core.add_transforms(
-              vr::decode_tf(as_message(in.sample, is_static ? "/tf_static" : "/tf", kTf)),
-              is_static);
-          break;
+        case Input::Kind::kChangeState: {
+          vr::ChangeStateRequestMsg req;
+          vr::decode_cdr(in.request.cdr, &req, "change_state request");
+          vr::ChangeStateResponseMsg res;
+          res.success = change(req.transition.id, req.transition.label);
+          reply(0, in.request, vr::encode_cdr(res));
+          return;
         }
-        case Input::Kind::kMap:
-          out = core.set_map(vr::to_ros_map(vr::decode_occupancy_grid(
-                                 as_message(in.sample, map_topic, kOccupancyGrid))),
-                             "topic " + map_topic);
-          break;
-        case Input::Kind::kInitialPose:
-          out = core.set_initial_pose(vr::decode_pose_with_covariance_stamped(
-              as_message(in.sample, "initialpose", kPoseCov)));
+        case Input::Kind::kGetState: {
+          vr::GetStateResponseMsg res;
+          res.current_state = lifecycle_.state_msg();
+          reply(1, in.request, vr::encode_cdr(res));
+          return;
+        }
+        case Input::Kind::kGlobal:
+          if (core_) {
+            core_->start_global();
+            log(core_->has_map() ? "global localization: searching the whole map"
+                                 : "global localization: once the map is there");
+          }
+          reply(2, in.request, vr::encode_cdr(vr::EmptyMsg{}));
+          return;
+        case Input::Kind::kNoMotion:
+          if (core_) core_->request_update();
+          reply(3, in.request, vr::encode_cdr(vr::EmptyMsg{}));
+          return;
+        case Input::Kind::kSetInitialPose: {
+          vr::SetInitialPoseRequestMsg req;
+          vr::decode_cdr(in.request.cdr, &req, "set_initial_pose request");
+          if (core_) emit(core_->set_initial_pose(req.pose));
+          reply(4, in.request, vr::encode_cdr(vr::EmptyMsg{}));
+          return;
+        }
+        default:
           break;
       }
+      // Latched topics are kept for the next configure; the rest needs a configured node.
+      if (in.kind == Input::Kind::kTfStatic || in.kind == Input::Kind::kMap) {
+        if (in.kind == Input::Kind::kMap) {
+          latched_.erase(std::remove_if(latched_.begin(), latched_.end(),
+                                        [](const Input& x) { return x.kind == Input::Kind::kMap; }),
+                         latched_.end());
+        }
+        latched_.push_back(in);
+      }
+      if (!core_) return;
+      if (in.kind == Input::Kind::kScan && lifecycle_.state() != 3) return;  // not active
+      consume(in);
     } catch (const vdtnav::Error& e) {
-      log_line(args, std::string("message refused: ") + e.what());
-      continue;
+      log(std::string("message refused: ") + e.what());
     }
-    for (const vr::PoseWithCovarianceStampedMsg& p : out.poses) pose_out->write(vr::encode_cdr(p));
-    if (!out.tf.transforms.empty()) tf_out->write(vr::encode_cdr(out.tf));
-    for (const std::string& l : out.log) log_line(args, l);
   }
-  readers.clear();
-  return 0;
-}
+
+  void reply(std::size_t service, const v2::Request& r, const std::vector<std::uint8_t>& cdr) {
+    if (!services_[service]->reply(r, cdr))
+      log("a reply on " + services_[service]->name() + " was refused");
+  }
+
+  /// A topic's sample into the core (configured).
+  void consume(const Input& in) {
+    switch (in.kind) {
+      case Input::Kind::kScan: {
+        vr::LaserScanMsg scan;
+        vr::decode_cdr(in.sample.cdr, &scan, scan_topic_);
+        emit(core_->add_scan(scan, in.arrival));
+        break;
+      }
+      case Input::Kind::kTf:
+      case Input::Kind::kTfStatic: {
+        vr::TfMsg tf;
+        vr::decode_cdr(in.sample.cdr, &tf, "/tf");
+        emit(core_->add_transforms(tf, in.kind == Input::Kind::kTfStatic));
+        break;
+      }
+      case Input::Kind::kMap: {
+        vr::OccupancyGridMsg grid;
+        vr::decode_cdr(in.sample.cdr, &grid, map_topic_);
+        emit(core_->set_map(vr::to_ros_map(grid), "topic " + map_topic_));
+        break;
+      }
+      case Input::Kind::kInitialPose: {
+        vr::PoseWithCovarianceStampedMsg p;
+        vr::decode_cdr(in.sample.cdr, &p, "initialpose");
+        emit(core_->set_initial_pose(p));
+        break;
+      }
+      default:
+        break;
+    }
+  }
+
+  void emit(const vr::NodeOutput& out) {
+    if (lifecycle_.state() == 3) {
+      for (const vr::PoseWithCovarianceStampedMsg& p : out.poses)
+        pose_out_->write(vr::encode_cdr(p));
+      if (!out.tf.transforms.empty()) tf_out_->write(vr::encode_cdr(out.tf));
+    }
+    for (const std::string& l : out.log) log(l);
+    for (const vr::NodeStatus& st : out.statuses) {
+      if (++statuses_[st.token] == 1 && !st.reason.empty()) log(st.token + ": " + st.reason);
+    }
+  }
+
+  const v2::RosArgs& args_;
+  v2::Participant participant_;
+  v2::Lifecycle lifecycle_;
+  std::string bond_instance_, scan_topic_, map_topic_;
+  Inbox inbox_;
+  std::unique_ptr<vr::NodeCore> core_;
+  std::vector<Input> latched_;
+  std::map<std::string, std::size_t> statuses_;  // what became of the scans, for the exit log
+  std::unique_ptr<v2::Writer> pose_out_, tf_out_, bond_out_, events_out_;
+  std::vector<std::unique_ptr<v2::Reader>> readers_;
+  std::vector<std::unique_ptr<v2::ServiceServer>> services_;
+};
 
 }  // namespace
 
 int main(int argc, char** argv) {
   try {
-    return run(argc, argv);
+    const v2::RosArgs args(argc, argv, "amcl");
+    std::signal(SIGINT, on_signal);
+    std::signal(SIGTERM, on_signal);
+    Ros2Localizer node(args);
+    return node.run();
   } catch (const vdtnav::Error& e) {
     std::fprintf(stderr, "vdtnav_ros2_localizer: %s\n", e.what());
     return 2;

@@ -45,7 +45,10 @@ bool ros1_playable(const std::string& type) {
 }
 
 Qos qos_of(const ros::BagTopic& t) {
-  if (t.name == "/tf_static") return Qos::transient_local();
+  // Latched, and every message kept for late joiners: a bag holds one /tf_static message per
+  // static broadcaster, each with its own transforms.
+  if (t.name == "/tf_static")
+    return Qos::transient_local(static_cast<int>(std::max<std::size_t>(t.count, 1)));
   return Qos{Qos::Reliability::kReliable, Qos::Durability::kVolatile, 100};
 }
 
@@ -121,6 +124,8 @@ PlayReport play_bag(const ros::BagReader& bag, Participant& participant,
     while (!all_matched() && Clock::now() < end) {
       std::this_thread::sleep_for(std::chrono::milliseconds(20));
     }
+    // A writer sees its match before the reader's side has it: a grace before the first sample.
+    std::this_thread::sleep_for(std::chrono::milliseconds(500));
   }
   if (map_writer) {
     map_writer->write(ros::encode_cdr(occupancy_grid(*options.map)));

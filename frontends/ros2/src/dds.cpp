@@ -2,6 +2,8 @@
 // subscriber, a topic per name, and the raw CDR type (raw_cdr_type.hpp) for every ROS type.
 #include "vdtnav/ros2/dds.hpp"
 
+#include <fastdds/rtps/common/SampleIdentity.h>
+#include <fastdds/rtps/common/WriteParams.h>
 #include <fastdds/rtps/transport/UDPv4TransportDescriptor.h>
 #include <fastrtps/utils/IPLocator.h>
 #include <fastdds/dds/domain/DomainParticipant.hpp>
@@ -17,6 +19,7 @@
 #include <fastdds/dds/subscriber/qos/DataReaderQos.hpp>
 #include <fastdds/dds/topic/Topic.hpp>
 
+#include <algorithm>
 #include <cstdlib>
 #include <map>
 #include <mutex>
@@ -150,6 +153,26 @@ struct Participant::Impl {
 
 namespace {
 
+SampleIdentity from_rtps(const rtps::SampleIdentity& id) {
+  SampleIdentity out;
+  const rtps::GUID_t& g = id.writer_guid();
+  std::copy(g.guidPrefix.value, g.guidPrefix.value + rtps::GuidPrefix_t::size, out.guid.begin());
+  std::copy(g.entityId.value, g.entityId.value + rtps::EntityId_t::size,
+            out.guid.begin() + rtps::GuidPrefix_t::size);
+  out.sequence = static_cast<std::int64_t>(id.sequence_number().to64long());
+  return out;
+}
+
+rtps::SampleIdentity to_rtps(const SampleIdentity& id) {
+  rtps::SampleIdentity out;
+  if (!id.known()) return rtps::SampleIdentity::unknown();
+  rtps::GUID_t& g = out.writer_guid();
+  std::copy(id.guid.begin(), id.guid.begin() + rtps::GuidPrefix_t::size, g.guidPrefix.value);
+  std::copy(id.guid.begin() + rtps::GuidPrefix_t::size, id.guid.end(), g.entityId.value);
+  out.sequence_number() = rtps::SequenceNumber_t(static_cast<std::uint64_t>(id.sequence));
+  return out;
+}
+
 class DdsWriter final : public Writer {
  public:
   DdsWriter(dds::Publisher* publisher, dds::DataWriter* writer)
@@ -159,6 +182,20 @@ class DdsWriter final : public Writer {
     if (cdr.size() < 4) return false;
     RawCdrSample s{cdr};
     return writer_->write(&s);
+  }
+  bool write(const std::vector<std::uint8_t>& cdr, const SampleIdentity& related,
+             SampleIdentity* written) override {
+    if (cdr.size() < 4) return false;
+    RawCdrSample s{cdr};
+    rtps::WriteParams params;
+    params.related_sample_identity(to_rtps(related));
+    if (!writer_->write(&s, params)) return false;
+    if (written != nullptr) *written = from_rtps(params.sample_identity());
+    return true;
+  }
+  bool wait_acknowledged(double seconds) override {
+    eprosima::fastrtps::Duration_t d(seconds);
+    return writer_->wait_for_acknowledgments(d) == ReturnCode_t::RETCODE_OK;
   }
   [[nodiscard]] int matched() const override {
     dds::PublicationMatchedStatus status;
@@ -187,6 +224,12 @@ class DdsReader final : public Reader, public dds::DataReaderListener {
     reader_->get_subscription_matched_status(status);
     return status.current_count;
   }
+  [[nodiscard]] SampleIdentity guid() const override {
+    rtps::SampleIdentity id;
+    id.writer_guid(reader_->guid());
+    id.sequence_number(rtps::SequenceNumber_t());
+    return from_rtps(id);
+  }
   void on_data_available(dds::DataReader* reader) override {
     RawCdrSample s;
     dds::SampleInfo info;
@@ -195,6 +238,8 @@ class DdsReader final : public Reader, public dds::DataReaderListener {
       Sample out;
       out.cdr = std::move(s.cdr);
       out.source_ns = static_cast<std::int64_t>(info.source_timestamp.to_ns());
+      out.identity = from_rtps(info.sample_identity);
+      out.related = from_rtps(info.related_sample_identity);
       on_sample_(out);
       s.cdr.clear();
     }

@@ -3,7 +3,8 @@
 // for the odometry at its stamp, is localized at the truth, and map -> odom is the offset the
 // test chose; amcl's update_min_d skips scans until the robot moved; a scan the odometry never
 // covers is reported and does not block the ones behind it; a missing mounting is named, not
-// guessed; global localization finds the pose without a prior.
+// guessed, and a scan older than the first mounting transform is no_transform while the next are
+// localized; global localization finds the pose without a prior.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -160,17 +161,49 @@ TEST_F(LiveStream, AScanTheOdometryNeverCoversIsReportedAndDoesNotBlockTheOnesBe
   expect_near(e[1].result.pose, truth, 0.01, 0.005);
 }
 
-TEST_F(LiveStream, WithoutAMountingTheScanIsReportedWithTheFramesNotGuessed) {
+TEST_F(LiveStream, WithoutAMountingTheScanWaitsThenIsReportedWithTheFramesNotGuessed) {
   LiveLocalizer loc(map, log_settings(), {});
   const Pose2 truth(4.0, 3.0, 0.3);
   loc.set_pose(truth, Eigen::Vector3d(1e-3, 1e-3, 1e-3).asDiagonal());
   (void)loc.add_transforms(odometry(truth, 0), false);
   (void)loc.add_scan(render(grid, truth, kSecond / 10));
-  const std::vector<LiveEstimate> e = loc.add_transforms(odometry(truth, kSecond / 5), false);
+  // Its odometry is known, its mounting not yet: it waits (a /tf_static may still come).
+  EXPECT_TRUE(loc.add_transforms(odometry(truth, kSecond / 5), false).empty());
+  EXPECT_EQ(loc.waiting(), 1U);
+  // Transforms 1 s newer than the scan, still no mounting: no_transform, the frames named.
+  const std::vector<LiveEstimate> e = loc.add_transforms(odometry(truth, 12 * kSecond / 10), false);
   ASSERT_EQ(e.size(), 1U);
-  EXPECT_EQ(e[0].event, LiveEstimate::Event::kNoOdometry);
+  EXPECT_EQ(e[0].event, LiveEstimate::Event::kNoTransform);
+  EXPECT_STREQ(to_string(e[0].event), "no_transform");
   EXPECT_NE(e[0].reason.find("base_link -> laser"), std::string::npos) << e[0].reason;
   EXPECT_NE(e[0].reason.find("laser_pose"), std::string::npos) << e[0].reason;
+}
+
+TEST_F(LiveStream, AScanOlderThanTheFirstMountingTransformIsNoTransformAndTheNextAreLocalized) {
+  // A real Neato bag's first scan is older than its first /tf, which carries the mounting.
+  LiveLocalizer loc(map, log_settings(), {});
+  const Pose2 truth(4.0, 3.0, 0.3);
+  loc.set_pose(truth, Eigen::Vector3d(1e-3, 1e-3, 1e-3).asDiagonal());
+  std::vector<LiveEstimate> e;
+  const auto take = [&e](std::vector<LiveEstimate> more) {
+    e.insert(e.end(), more.begin(), more.end());
+  };
+  take(loc.add_scan(render(grid, truth, kSecond / 10)));
+  for (int k = 0; k <= 15; ++k) {  // /tf at 10 Hz from 0.15 s on: odometry and the mounting
+    const std::int64_t t = kT0 + kSecond / 20 + k * kSecond / 10;
+    TfMsg tf = odometry(truth, t - kT0);
+    if (k > 0) tf.transforms.push_back(transform("base_link", "laser", kMount, t));
+    take(loc.add_transforms(tf, false));
+    if (k == 2) take(loc.add_scan(render(grid, truth, 3 * kSecond / 10)));
+  }
+  ASSERT_EQ(e.size(), 2U);
+  EXPECT_EQ(e[0].event, LiveEstimate::Event::kNoTransform);
+  EXPECT_EQ(e[0].stamp_ns, kT0 + kSecond / 10);
+  EXPECT_EQ(e[1].event, LiveEstimate::Event::kLocalized);
+  EXPECT_EQ(e[1].stamp_ns, kT0 + 3 * kSecond / 10);
+  EXPECT_EQ(e[1].result.status, LocalizationStatus::kConverged);
+  expect_near(e[1].result.pose, truth, 0.01, 0.005);
+  EXPECT_EQ(loc.mount_source(), "TF base_link -> laser");
 }
 
 TEST_F(LiveStream, GlobalLocalizationFindsThePoseWithoutAPrior) {

@@ -15,7 +15,10 @@
 ///   localized (amcl's parameters; 0 and 0, the defaults, localize every scan);
 /// - no_pose: no initial pose yet (set_pose() or start_global());
 /// - no_odometry: the odometry is not known at the stamp and will not be (transforms newer than
-///   the stamp arrived without connecting odom -> base, or more than max_queue scans wait).
+///   the stamp arrived without connecting odom -> base, or more than max_queue scans wait);
+/// - no_transform: the same for the mounting, base -> the scan's frame (a scan older than the
+///   first mounting transform, as `vdtnav localize --bag` leaves it out). The mounting is looked
+///   up once, at the first scan it is known at.
 /// With odom_extrapolation > 0 a scan up to that much newer than the odometry is localized at
 /// once, on the odometry extrapolated to its stamp (lower latency, poses no longer bit-equal to
 /// the CLI's).
@@ -66,7 +69,7 @@ struct LiveLocalizerOptions {
 
 /// \brief What became of one scan.
 struct LiveEstimate {
-  enum class Event { kLocalized, kSkipped, kNoPose, kNoOdometry };
+  enum class Event { kLocalized, kSkipped, kNoPose, kNoOdometry, kNoTransform };
   Event event = Event::kNoPose;
   std::int64_t stamp_ns = 0;
   LocalizationResult result;  ///< kLocalized: status, pose, covariance, explained
@@ -76,10 +79,10 @@ struct LiveEstimate {
   /// REP 105: what a node broadcasts as map -> odom.
   Pose2 map_to_odom = Pose2::Zero();
   double seconds = 0.0;  ///< processing time of this scan
-  std::string reason;    ///< kNoOdometry: why
+  std::string reason;    ///< kNoOdometry, kNoTransform: why
 };
 
-/// \return "localized", "skipped", "no_pose" or "no_odometry".
+/// \return "localized", "skipped", "no_pose", "no_odometry" or "no_transform".
 [[nodiscard]] const char* to_string(LiveEstimate::Event e);
 
 /// \brief The stream localizer (see the file comment). Not thread-safe: one caller feeds it.
@@ -100,6 +103,9 @@ class LiveLocalizer {
   /// bound, settings section global:) until one is accepted.
   void start_global();
   [[nodiscard]] bool global_pending() const noexcept { return global_pending_; }
+  /// \brief The next scan is localized however little the robot moved (amcl's
+  /// request_nomotion_update).
+  void request_update() noexcept { force_update_ = true; }
 
   /// \brief Adds transforms (from /tf, or /tf_static when is_static); returns the scans this
   /// made localizable, in stamp order.
@@ -136,6 +142,7 @@ class LiveLocalizer {
   std::string mount_source_;
   std::optional<std::pair<Pose2, Eigen::Matrix3d>> pending_reset_;
   bool global_pending_ = false;
+  bool force_update_ = false;
   bool tracking_ = false;
   Pose2 last_pose_ = Pose2::Zero();
   bool has_last_pose_ = false;

@@ -2,8 +2,10 @@
 /// \file
 /// \brief The ROS messages vdtnav reads and writes, as plain structs (no ROS type): the fields of
 /// sensor_msgs, nav_msgs, geometry_msgs and tf2_msgs that a localizer needs, decoded from either
-/// bag format (bag_reader.hpp) and encoded as ROS 2 CDR (cdr_writer.hpp). The same structs serve
-/// a ROS 1 or ROS 2 node.
+/// bag format (bag_reader.hpp) and encoded as ROS 2 CDR (cdr_writer.hpp); and the
+/// lifecycle_msgs, bond, std_srvs and nav2_msgs messages and services a ROS 2 node answers nav2's
+/// lifecycle manager and amcl's clients with, encoded and decoded as ROS 2 CDR (cdr_writer.hpp,
+/// cdr_reader.hpp). The same structs serve a ROS 1 or ROS 2 node.
 ///
 /// Times are nanoseconds since the epoch (ROS 1 time: sec * 1e9 + nsec; ROS 2's builtin
 /// Time likewise). Orientations are unit quaternions (x, y, z, w as ROS writes them).
@@ -129,6 +131,66 @@ struct OccupancyGridMsg {
   Header header;
   MapMetaDataMsg info;
   std::vector<std::int8_t> data;
+};
+
+/// \brief lifecycle_msgs/Transition: a transition of a managed node (id: lifecycle_ids.hpp's
+/// kTransition*; label as rcl_lifecycle names it, "configure", "activate", ...).
+struct LifecycleTransitionMsg {
+  std::uint8_t id = 0;
+  std::string label;
+};
+
+/// \brief lifecycle_msgs/State: a state of a managed node (id: lifecycle_ids.hpp's
+/// kPrimaryState* and kTransitionState*; label as rcl_lifecycle names it, "inactive", ...).
+struct LifecycleStateMsg {
+  std::uint8_t id = 0;
+  std::string label;
+};
+
+/// \brief lifecycle_msgs/ChangeState's request: the transition the lifecycle manager asks for.
+struct ChangeStateRequestMsg {
+  LifecycleTransitionMsg transition;
+};
+
+/// \brief lifecycle_msgs/ChangeState's response: whether the transition was carried out.
+struct ChangeStateResponseMsg {
+  bool success = false;
+};
+
+/// \brief lifecycle_msgs/GetState's response (its request is an EmptyMsg).
+struct GetStateResponseMsg {
+  LifecycleStateMsg current_state;
+};
+
+/// \brief lifecycle_msgs/TransitionEvent: published on <node>/transition_event after each
+/// transition.
+struct TransitionEventMsg {
+  std::uint64_t timestamp = 0;  ///< the event's time as its publisher stamps it (uint64)
+  LifecycleTransitionMsg transition;
+  LifecycleStateMsg start_state, goal_state;
+};
+
+/// \brief bond/Status: the heartbeat each side of a bond (nav2's lifecycle manager and a managed
+/// node) publishes on /bond.
+struct BondStatusMsg {
+  Header header;
+  std::string id;           ///< the bond's id (nav2: the node's name)
+  std::string instance_id;  ///< this side's unique id within the bond
+  bool active = false;
+  float heartbeat_timeout = 0.0F, heartbeat_period = 0.0F;  ///< s
+};
+
+/// \brief Any message, request or response without fields: lifecycle_msgs/GetState's request,
+/// std_srvs/Empty's request and response, nav2_msgs/SetInitialPose's response. ROS 2 still sends
+/// one byte for it: rosidl gives every empty structure the member `uint8
+/// structure_needs_at_least_one_member` (value 0), since an IDL struct needs a member
+/// (cdr_writer.hpp).
+struct EmptyMsg {};
+
+/// \brief nav2_msgs/SetInitialPose's request (amcl's set_initial_pose service; the response is
+/// an EmptyMsg).
+struct SetInitialPoseRequestMsg {
+  PoseWithCovarianceStampedMsg pose;
 };
 
 }  // namespace vdtnav::ros

@@ -50,14 +50,14 @@ struct NodeOptions {
 struct NodeStatus {
   std::int64_t stamp_ns = 0;
   std::string
-      token;  ///< "converged", "bridged", "lost", ..., "skipped", "no_odometry" (underscored)
+      token;  ///< "converged", "bridged", "lost", ..., "skipped", "no_odometry", "no_transform"
   /// 0 OK (converged), 1 WARN, 2 ERROR (lost, diverged): diagnostic_msgs' levels.
   int level = 1;
   double explained = 0.0;      ///< NaN unless localized
   double processing_ms = 0.0;  ///< the localizer's time for this scan
   double latency_ms = 0.0;     ///< from the scan's arrival to now (NaN: arrival unknown)
   std::size_t waiting = 0;     ///< scans waiting for their odometry
-  std::string reason;          ///< why not localized (no_odometry)
+  std::string reason;          ///< why not localized (no_odometry, no_transform)
 };
 
 /// \brief The messages a node publishes after one input.
@@ -86,9 +86,12 @@ class NodeCore {
                                                     std::chrono::steady_clock::now());
   /// \brief `initialpose`: taken in the global frame (or with no frame), refused otherwise.
   NodeOutput set_initial_pose(const PoseWithCovarianceStampedMsg& pose);
-  /// \brief Global localization: the next scans are searched for in the whole map.
+  /// \brief Global localization: the next scans are searched for in the whole map (asked before
+  /// the first map: once it is there, instead of the initial pose).
+  void start_global();
+  /// \brief The next scan is localized however little the robot moved.
   /// \return false before there is a map.
-  bool start_global();
+  bool request_update();
 
   [[nodiscard]] bool has_map() const noexcept { return localizer_ != nullptr; }
   [[nodiscard]] const NodeOptions& options() const noexcept { return options_; }
@@ -110,6 +113,7 @@ class NodeCore {
   std::vector<Early> early_;
   std::size_t early_scans_ = 0;
   bool warned_early_ = false;
+  bool global_requested_ = false;
   std::map<std::int64_t, std::chrono::steady_clock::time_point> arrival_;
 };
 

@@ -5,9 +5,10 @@
 /// rate, in recorded order. A ROS 2 bag's messages go out as recorded (its CDR bytes as they
 /// are); a ROS 1 bag's are decoded and encoded as ROS 2 CDR (the types of messages.hpp; other
 /// types are not played, and said). QoS: what a ROS 2 bag recorded for the topic when it says
-/// (metadata.yaml's offered_qos_profiles), else `/tf_static` reliable transient local (latched)
-/// and every other topic reliable, volatile, keep last 100 (a reliable writer serves best-effort
-/// readers too).
+/// (metadata.yaml's offered_qos_profiles: not read yet), else `/tf_static` reliable, transient
+/// local, keeping all its messages (one per static broadcaster of the recording) for late
+/// joiners, and every other topic reliable, volatile, keep last 100 (a reliable writer serves
+/// best-effort readers too).
 
 #include <cstdint>
 #include <functional>

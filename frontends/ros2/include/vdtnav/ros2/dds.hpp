@@ -18,6 +18,7 @@
 /// the participants 0..kLoopbackPeers on 127.0.0.1, no multicast, no shared memory. Otherwise
 /// Fast DDS's defaults (multicast discovery on every interface), what a ROS 2 node does.
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <functional>
@@ -60,10 +61,28 @@ struct Qos {
   }
 };
 
+/// \brief A sample's identity (RTPS's SampleIdentity): the GUID of the writer (or, for a
+/// service, of the endpoint a reply is for) and a sequence number.
+struct SampleIdentity {
+  std::array<std::uint8_t, 16> guid{};  ///< 12-byte prefix, 4-byte entity id; all 0: unknown
+  std::int64_t sequence = 0;
+  [[nodiscard]] bool known() const noexcept {
+    for (std::uint8_t b : guid) {
+      if (b != 0) return true;
+    }
+    return false;
+  }
+  bool operator==(const SampleIdentity& o) const noexcept {
+    return guid == o.guid && sequence == o.sequence;
+  }
+};
+
 /// \brief One sample as received.
 struct Sample {
   std::vector<std::uint8_t> cdr;  ///< CDR with its encapsulation header
   std::int64_t source_ns = 0;     ///< the writer's source timestamp
+  SampleIdentity identity;        ///< this sample's (writer GUID, sequence number)
+  SampleIdentity related;         ///< the related sample's, as the writer gave it (services)
 };
 
 /// \brief The participant's domain and network.
@@ -88,8 +107,15 @@ class Writer {
   /// \brief Publishes one sample (CDR with its encapsulation header, at least 4 bytes).
   /// \return false when DDS refused it (a full history of a reliable writer, ...).
   virtual bool write(const std::vector<std::uint8_t>& cdr) = 0;
+  /// \brief Publishes one sample with a related sample identity (DDS's WriteParams, what ROS 2's
+  /// default middleware uses for services); `*written` receives this sample's own identity.
+  virtual bool write(const std::vector<std::uint8_t>& cdr, const SampleIdentity& related,
+                     SampleIdentity* written) = 0;
   /// \return the readers matched now.
   [[nodiscard]] virtual int matched() const = 0;
+  /// \brief Waits up to `seconds` until the matched reliable readers acknowledged every sample.
+  /// \return false on timeout.
+  virtual bool wait_acknowledged(double seconds) = 0;
 };
 
 /// \brief A reader of one topic; its callback runs on a DDS thread, one sample at a time.
@@ -98,6 +124,8 @@ class Reader {
   virtual ~Reader() = default;
   /// \return the writers matched now.
   [[nodiscard]] virtual int matched() const = 0;
+  /// \return this reader's GUID.
+  [[nodiscard]] virtual SampleIdentity guid() const = 0;
 };
 
 /// \brief A DDS domain participant with ROS 2's naming (see the file comment).
