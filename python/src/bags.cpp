@@ -70,6 +70,8 @@ void bind_bags(py::module_& m) {
         d["odometry_source"] = s.odometry_source;
         d["mount_source"] = s.mount_source;
         d["skipped_no_odometry"] = s.skipped_no_odometry;
+        d["skipped_no_transform"] = s.skipped_no_transform;
+        d["scan_topic_choice"] = s.scan_topic_choice;
         return d;
       },
       py::arg("path"), py::arg("scan_topic") = "", py::arg("odom_topic") = "",

@@ -6,13 +6,16 @@
 #include <gtest/gtest.h>
 #include <rosbag/bag.h>
 #include <sensor_msgs/Imu.h>
+#include <sensor_msgs/LaserScan.h>
 #include <sensor_msgs/PointCloud2.h>
+#include <tf2_msgs/TFMessage.h>
 #include <unistd.h>
 
 #include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <random>
 #include <string>
 #include <vector>
@@ -94,7 +97,7 @@ TEST(CliBags, LocalizesTheTurtlebotBagFromNoPriorWhereItsOdometryStarts) {
     ++without;
   }
   EXPECT_EQ(without, seq.skipped_no_odometry);
-  EXPECT_EQ(seq.skipped_no_odometry, 1U);  // the first scan comes before the first /tf
+  EXPECT_EQ(seq.skipped_no_odometry, 1U);  // the last scan comes after the last /tf
   // The first pose: the map frame is the odometry's within the README's 0.5 m / 4 degrees.
   const std::vector<StampedPose3> tum = load_tum_trajectory((d / "olin.tum").string()).poses;
   ASSERT_FALSE(tum.empty());
@@ -103,6 +106,137 @@ TEST(CliBags, LocalizesTheTurtlebotBagFromNoPriorWhereItsOdometryStarts) {
   const Eigen::Vector3d t = tum.front().pose.translation();
   EXPECT_LT(std::hypot(t.x() - odom0[0], t.y() - odom0[1]), 1.0);
   EXPECT_LT(std::abs(wrap_angle(ros::planar(tum.front().pose)[2] - odom0[2])), 0.15);
+  fs::remove_all(d);
+}
+
+// The two things a user's own bag meets first (issue 59): a scan older than the first mounting
+// transform, and a second LaserScan topic. The TurtleBot 4 bag rewritten as a ROS 1 bag whose
+// mounting base_link -> rplidar_link is on /tf from the second scan's stamp on (not /tf_static),
+// with a /scan_raw beside /scan whose ranges are 10 % long: the first scan is a no_transform row,
+// /scan is taken and said, and every other row equals the original bag's run from its second
+// scan on.
+::ros::Time ros_time(std::int64_t ns) {
+  ::ros::Time t;
+  t.fromNSec(static_cast<std::uint64_t>(ns));
+  return t;
+}
+
+geometry_msgs::TransformStamped to_ros1(const ros::TransformStampedMsg& s) {
+  geometry_msgs::TransformStamped o;
+  o.header.stamp = ros_time(s.header.stamp_ns);
+  o.header.frame_id = s.header.frame_id;
+  o.child_frame_id = s.child_frame_id;
+  o.transform.translation.x = s.translation.x();
+  o.transform.translation.y = s.translation.y();
+  o.transform.translation.z = s.translation.z();
+  o.transform.rotation.x = s.rotation.x();
+  o.transform.rotation.y = s.rotation.y();
+  o.transform.rotation.z = s.rotation.z();
+  o.transform.rotation.w = s.rotation.w();
+  return o;
+}
+
+sensor_msgs::LaserScan to_ros1(const ros::LaserScanMsg& s, float range_scale) {
+  sensor_msgs::LaserScan o;
+  o.header.stamp = ros_time(s.header.stamp_ns);
+  o.header.frame_id = s.header.frame_id;
+  o.angle_min = s.angle_min;
+  o.angle_max = s.angle_max;
+  o.angle_increment = s.angle_increment;
+  o.time_increment = s.time_increment;
+  o.scan_time = s.scan_time;
+  o.range_min = s.range_min;
+  o.range_max = s.range_max;
+  for (const float r : s.ranges) o.ranges.push_back(r * range_scale);
+  o.intensities = s.intensities;
+  return o;
+}
+
+/// The rows of a --cov table by stamp (its first column), the header left out.
+std::vector<std::string> rows_of(const fs::path& p) {
+  std::ifstream in(p);
+  std::vector<std::string> rows;
+  std::string l;
+  std::getline(in, l);
+  while (std::getline(in, l)) rows.push_back(l);
+  return rows;
+}
+
+TEST(CliBags, AScanBeforeTheFirstMountingTransformIsARowAndTheTopicNamedScanIsTaken) {
+  if (!fs::exists(kOlin)) GTEST_SKIP() << "no " << kOlin;
+  const fs::path d = work_dir("bag_mount");
+  const fs::path original = kOlin / "macfirst_floor_take_2";
+  const std::unique_ptr<ros::BagReader> reader = ros::BagReader::open(original.string());
+  std::vector<std::int64_t> scan_stamps;
+  std::optional<ros::TransformStampedMsg> mount;
+  {
+    rosbag::Bag out((d / "late_mount.bag").string(), rosbag::bagmode::Write);
+    reader->read({"/scan", "/tf", "/tf_static"}, [&](const ros::BagMessage& m) {
+      const ::ros::Time at = ros_time(m.recorded_ns);
+      if (m.topic == "/scan") {
+        const ros::LaserScanMsg s = ros::decode_laser_scan(m);
+        scan_stamps.push_back(s.header.stamp_ns);
+        out.write("/scan", at, to_ros1(s, 1.0F));
+        out.write("/scan_raw", at, to_ros1(s, 1.1F));
+        return true;
+      }
+      tf2_msgs::TFMessage tf;
+      for (const ros::TransformStampedMsg& t : ros::decode_tf(m).transforms) {
+        if (t.child_frame_id == "rplidar_link") {
+          mount = t;
+          continue;
+        }
+        tf.transforms.push_back(to_ros1(t));
+      }
+      if (!tf.transforms.empty()) out.write(m.topic, at, tf);
+      return true;
+    });
+    ASSERT_TRUE(mount) << "the bag's /tf_static holds base_link -> rplidar_link";
+    ASSERT_GT(scan_stamps.size(), 2U);
+    // The mounting from the second scan's stamp on, at 10 Hz, to a second after the last scan.
+    for (std::int64_t t = scan_stamps[1]; t < scan_stamps.back() + 1'000'000'000;
+         t += 100'000'000) {
+      ros::TransformStampedMsg m = *mount;
+      m.header.stamp_ns = t;
+      tf2_msgs::TFMessage tf;
+      tf.transforms.push_back(to_ros1(m));
+      out.write("/tf", ros_time(t), tf);
+    }
+    out.close();
+  }
+  const std::string map = (kOlin / "mac_1st_floor_final.yaml").string();
+  const auto localize = [&](const fs::path& bag, const std::string& name, const std::string& more) {
+    return run_cli("localize --map " + map + " --bag " + bag.string() + " --init global --out " +
+                       (d / (name + ".tum")).string() + " --cov " + (d / (name + ".csv")).string() +
+                       more,
+                   d / (name + ".txt"));
+  };
+  // The original from its second scan on: the run the rewritten bag must give.
+  char from[64];
+  std::snprintf(from, sizeof from, " --from %.6f",
+                static_cast<double>(scan_stamps[1]) * 1e-9 - 0.001);
+  ASSERT_EQ(localize(original, "original", from), 0) << read_all(d / "original.txt");
+  ASSERT_EQ(localize(d / "late_mount.bag", "late", ""), 0) << read_all(d / "late.txt");
+  const std::string said = read_all(d / "late.txt");
+  EXPECT_TRUE(contains(said, "/scan of 2 LaserScan topics")) << said;
+  EXPECT_TRUE(contains(said, "1 scans older than the first mounting transform left out")) << said;
+
+  const std::vector<std::string> was = rows_of(d / "original.csv");
+  const std::vector<std::string> now = rows_of(d / "late.csv");
+  ASSERT_EQ(was.size() + 1, scan_stamps.size());
+  ASSERT_EQ(now.size(), scan_stamps.size());  // a row for every scan
+  EXPECT_TRUE(contains(now[0], ",no_transform,")) << now[0];
+  for (std::size_t i = 1; i < now.size(); ++i) EXPECT_EQ(now[i], was[i - 1]) << "row " << i;
+  EXPECT_EQ(read_all(d / "late.tum"), read_all(d / "original.tum"));
+
+  // Named, the other topic is taken (and its long ranges move the poses).
+  ASSERT_EQ(run_cli("localize --map " + map + " --bag " + (d / "late_mount.bag").string() +
+                        " --scan-topic /scan_raw --init global --out " + (d / "raw.tum").string(),
+                    d / "raw.txt"),
+            0)
+      << read_all(d / "raw.txt");
+  EXPECT_FALSE(contains(read_all(d / "raw.txt"), "LaserScan topics")) << read_all(d / "raw.txt");
+  EXPECT_NE(read_all(d / "raw.tum"), read_all(d / "original.tum"));
   fs::remove_all(d);
 }
 

@@ -67,7 +67,9 @@ struct ScanRun {
   std::vector<LaserScan> scans;
   std::vector<Pose2> odometry;
   std::optional<Pose2> first_pose;
-  std::vector<double> no_odometry;  // stamps of input scans without odometry (not localized)
+  // Input scans not localized, with their status: no_odometry (outside the odometry's time span)
+  // or no_transform (older than the first mounting transform).
+  std::vector<std::pair<double, std::string>> not_localized;
 };
 
 ScanRun read_log_run(const LocalizeArgs& a) {
@@ -118,18 +120,29 @@ ScanRun read_bag_run(const LocalizeArgs& a) {
   o.sigma_range = a.sigma_range;
   if (a.max_range_given) o.max_range = a.max_range;
   ros::ScanSequence seq = ros::read_scan_sequence(*bag, o);
+  std::string left_out;
+  if (seq.skipped_no_odometry > 0) {
+    left_out += "; " + std::to_string(seq.skipped_no_odometry) +
+                " scans outside the odometry's time span left out (no_odometry)";
+  }
+  if (seq.skipped_no_transform > 0) {
+    left_out += "; " + std::to_string(seq.skipped_no_transform) +
+                " scans older than the first mounting transform left out (no_transform)";
+  }
   std::fprintf(stderr,
                "[localize] %zu scans of %s (frame %s), odometry from %s, mounting from %s%s\n",
                seq.scans.size(), seq.scan_topic.c_str(), seq.scan_frame.c_str(),
-               seq.odometry_source.c_str(), seq.mount_source.c_str(),
-               seq.skipped_no_odometry > 0 ? (" (" + std::to_string(seq.skipped_no_odometry) +
-                                              " scans outside the odometry's time span left out)")
-                                                 .c_str()
-                                           : "");
+               seq.odometry_source.c_str(), seq.mount_source.c_str(), left_out.c_str());
+  if (!seq.scan_topic_choice.empty()) {
+    std::fprintf(stderr, "[localize] scans: %s\n", seq.scan_topic_choice.c_str());
+  }
   ScanRun run;
   run.input = a.bag;
   for (double t : seq.skipped_times) {
-    if (a.window.contains(t)) run.no_odometry.push_back(t);
+    if (a.window.contains(t)) run.not_localized.emplace_back(t, "no_odometry");
+  }
+  for (double t : seq.no_transform_times) {
+    if (a.window.contains(t)) run.not_localized.emplace_back(t, "no_transform");
   }
   for (std::size_t k = 0; k < seq.scans.size(); ++k) {
     if (!a.window.contains(seq.scans[k].time)) continue;
@@ -326,11 +339,11 @@ void run_localize(const LocalizeArgs& a) {
     }
     if (!traj.flush()) throw IoError(a.out + ": write failed");
   }
-  // Input scans that had no odometry at their stamp: a row each too (status no_odometry).
-  for (double t : run.no_odometry) {
+  // Input scans not localized (no odometry or no mounting at their stamp): a row each too.
+  for (const auto& [t, status] : run.not_localized) {
     PoseRow row;
     row.t = t;
-    row.status = "no_odometry";
+    row.status = status;
     rows.push_back(row);
   }
   std::stable_sort(rows.begin(), rows.end(),

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 
 #include "topics.hpp"
 #include "vdtnav/core/error.hpp"
@@ -44,8 +45,16 @@ LaserScan to_laser_scan(const LaserScanMsg& m, const Pose2& mount, double sigma_
 ScanSequence read_scan_sequence(const BagReader& bag, const ScanSequenceOptions& o) {
   ScanSequence out;
   const BagTopic* scan_topic =
-      pick_topic(bag, o.scan_topic, "sensor_msgs/LaserScan", "--scan-topic", true);
+      pick_topic(bag, o.scan_topic, "sensor_msgs/LaserScan", "--scan-topic", true, "scan");
   out.scan_topic = scan_topic->name;
+  if (const auto all = detail::topics_of(bag, "sensor_msgs/LaserScan");
+      o.scan_topic.empty() && all.size() > 1) {
+    std::string names;
+    for (const BagTopic* t : all) names += (names.empty() ? "" : ", ") + t->name;
+    out.scan_topic_choice = scan_topic->name + " of " + std::to_string(all.size()) +
+                            " LaserScan topics (" + names +
+                            "), as amcl subscribes scan; --scan-topic takes another";
+  }
   const BagTopic* odom_topic =
       pick_topic(bag, o.odom_topic, "nav_msgs/Odometry", "--odom-topic", false);
   const std::vector<std::string> tf_topics = tf_topics_of(bag);
@@ -99,34 +108,45 @@ ScanSequence read_scan_sequence(const BagReader& bag, const ScanSequenceOptions&
                       ") and no nav_msgs/Odometry topic (the bag has: " + list_topics(bag) + ")");
   }
 
-  // Mounting: given, or TF base -> the scan's frame (a static transform, or the one at the stamp).
-  Pose2 mount = Pose2::Zero();
+  // Mounting: given, or TF base -> the scan's frame (a static transform, or the one at the first
+  // scan it is known at; older scans are left out, no_transform).
+  std::optional<Pose2> mount;
   if (o.laser_pose) {
     mount = *o.laser_pose;
     out.mount_source = "--laser-pose";
+  } else if (out.scan_frame == o.base_frame) {
+    mount = Pose2::Zero();
+    out.mount_source = "the scans are in " + o.base_frame;
+  } else if (!tf.connected(o.base_frame, out.scan_frame)) {
+    throw ConfigError(bag.path() + ": no transform " + o.base_frame + " -> " + out.scan_frame +
+                      " (the scans' frame) in the bag; give --laser-pose x,y,yaw (the frames: " +
+                      tf.describe() + ")");
   } else {
-    const std::string base = o.base_frame;
-    if (out.scan_frame == base) {
-      out.mount_source = "the scans are in " + base;
-    } else if (!tf.connected(base, out.scan_frame)) {
-      throw ConfigError(bag.path() + ": no transform " + base + " -> " + out.scan_frame +
-                        " (the scans' frame) in the bag; give --laser-pose x,y,yaw (the frames: " +
-                        tf.describe() + ")");
-    } else {
-      mount = planar(tf.lookup(base, out.scan_frame, msgs.front().header.stamp_ns));
-      out.mount_source = "TF " + base + " -> " + out.scan_frame;
-    }
+    out.mount_source = "TF " + o.base_frame + " -> " + out.scan_frame;
   }
 
   for (const LaserScanMsg& m : msgs) {
     const std::int64_t t = m.header.stamp_ns;
+    if (!mount) {
+      if (!tf.can_lookup(o.base_frame, out.scan_frame, t)) {
+        ++out.skipped_no_transform;
+        out.no_transform_times.push_back(static_cast<double>(t) * 1e-9);
+        continue;
+      }
+      mount = planar(tf.lookup(o.base_frame, out.scan_frame, t));
+    }
     if (!odom_source->can_lookup(parent, child, t)) {
       ++out.skipped_no_odometry;
       out.skipped_times.push_back(static_cast<double>(t) * 1e-9);
       continue;
     }
     out.odometry.push_back(planar(odom_source->lookup(parent, child, t)));
-    out.scans.push_back(to_laser_scan(m, mount, o.sigma_range, o.max_range));
+    out.scans.push_back(to_laser_scan(m, *mount, o.sigma_range, o.max_range));
+  }
+  if (!mount) {
+    throw ConfigError(bag.path() + ": the transform " + o.base_frame + " -> " + out.scan_frame +
+                      " is not known at any scan's stamp; give --laser-pose x,y,yaw (the frames: " +
+                      tf.describe() + ")");
   }
   if (out.scans.empty()) {
     throw ConfigError(bag.path() + ": no scan of " + scan_topic->name +

@@ -29,9 +29,11 @@ inline std::string list_topics(const BagReader& bag) {
   return s.empty() ? "none" : s;
 }
 
-/// The topic named, checked to be of `type`; or the only one of that type.
+/// The topic named, checked to be of `type`; or the only one of that type; or of several, the
+/// one named `preferred` (with or without the leading slash; "" = none preferred).
 inline const BagTopic* pick_topic(const BagReader& bag, const std::string& name,
-                                  const std::string& type, const std::string& flag, bool required) {
+                                  const std::string& type, const std::string& flag, bool required,
+                                  const std::string& preferred = "") {
   if (!name.empty()) {
     for (const BagTopic& t : bag.topics()) {
       if (t.name != name) continue;
@@ -46,6 +48,9 @@ inline const BagTopic* pick_topic(const BagReader& bag, const std::string& name,
   }
   const auto found = topics_of(bag, type);
   if (found.size() == 1) return found.front();
+  for (const BagTopic* t : found) {
+    if (!preferred.empty() && (t->name == preferred || t->name == "/" + preferred)) return t;
+  }
   if (!required && found.empty()) return nullptr;
   throw ConfigError(bag.path() + ": " +
                     (found.empty() ? "no " + type + " topic"

@@ -4,14 +4,19 @@
 /// header stamp and the scanner's mounting pose — what `vdtnav localize --bag` localizes.
 ///
 /// Where things come from (REP 105 names by default):
-/// - scans: `scan_topic`, or the bag's only sensor_msgs/LaserScan topic;
+/// - scans: `scan_topic`, or the bag's only sensor_msgs/LaserScan topic, or of several the one
+///   named `scan` (`/scan`), as nav2's amcl subscribes `scan` (ScanSequence::scan_topic_choice says
+///   so);
 /// - odometry: `odom_topic` when given; otherwise TF odom_frame -> base_frame when the bag's /tf
 ///   connects them; otherwise the bag's only nav_msgs/Odometry topic; interpolated at each scan's
 ///   stamp. A transform tree that does not connect the robot's frames (another node's map -> odom)
 ///   is ignored;
 /// - mounting: `laser_pose` when given (x, y, yaw), else base_frame -> the scan's frame from TF
-///   (planar part: x, y, yaw).
-/// A missing topic or transform is a ConfigError naming the topics or frames the bag has.
+///   (planar part: x, y, yaw), looked up at the first scan it is known at: scans older than the
+///   first mounting transform (a real Neato bag's first scan is 79 µs older than its first /tf)
+///   are left out and counted (`no_transform`), as are scans outside the odometry (`no_odometry`).
+/// A missing topic, or a transform the bag never holds, is a ConfigError naming the topics or
+/// frames the bag has.
 
 #include <cstddef>
 #include <cstdint>
@@ -45,8 +50,12 @@ struct ScanSequence {
   std::string scan_topic, scan_frame;
   std::string odometry_source;          ///< "TF odom -> base_link" or "topic /odom"
   std::string mount_source;             ///< "TF base_link -> laser" or "--laser-pose"
+  std::string scan_topic_choice;        ///< "" or why scan_topic was taken among several
   std::size_t skipped_no_odometry = 0;  ///< scans outside the odometry's time span
   std::vector<double> skipped_times;    ///< their stamps, s
+  /// Scans older than the first mounting transform (status no_transform), and their stamps, s.
+  std::size_t skipped_no_transform = 0;
+  std::vector<double> no_transform_times;
 };
 
 /// \brief Reads the run (see the file comment).
